@@ -1,0 +1,3 @@
+from aquagait.cli import main
+
+raise SystemExit(main())
