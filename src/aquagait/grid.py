@@ -51,13 +51,15 @@ class Grid:
     def __post_init__(self):
         shape = tuple(self.shape)
         if len(shape) not in (2, 3):
-            raise ValueError(
-                f"grid shape must have 2 or 3 entries (nx, ny[, nz]), got {shape!r}"
-            )
+            raise ValueError(f"grid shape must have 2 or 3 entries (nx, ny[, nz]), got {shape!r}")
         if any(int(n) != n or n < 2 for n in shape):
-            raise ValueError(f"grid shape needs whole numbers of cells >= 2 per axis, got {shape!r}")
+            raise ValueError(
+                f"grid shape needs whole numbers of cells >= 2 per axis, got {shape!r}"
+            )
         if not np.isfinite(self.cell_size) or self.cell_size <= 0:
-            raise ValueError(f"cell_size must be a positive length in metres, got {self.cell_size!r}")
+            raise ValueError(
+                f"cell_size must be a positive length in metres, got {self.cell_size!r}"
+            )
         origin = (0.0,) * len(shape) if self.origin is None else tuple(map(float, self.origin))
         if len(origin) != len(shape):
             raise ValueError(

@@ -1,0 +1,284 @@
+"""Geometric multigrid V-cycle: the preconditioner of the pressure solve.
+
+Multigrid-preconditioned CG (McAdams, Sifakis and Teran 2010) keeps the
+iteration count nearly flat as the grid is refined, where incomplete Cholesky
+(MIC(0)) grows like the square root of the cell count per axis. We measured
+both (``aquagait bench fluid`` and tests/fluid/test_pcg.py hold the budgets).
+
+The hierarchy halves every axis (x and y only in 2D) until an axis reaches two
+cells. A coarse cell is fluid when any of its children is; coarse ghosts are
+again Dirichlet ``p = 0``. Transfers are cell-centred linear interpolation
+``P`` (weights 3/4 and 1/4 per axis) and its transpose ``R = (4 / 2^dim) P^T``,
+the factor matching the unscaled Laplacian (``L_2h ~ 4 L_h``). Smoothing is
+red-black Gauss-Seidel, red then black before the coarse correction and black
+then red after it, so the V-cycle is a symmetric positive-definite operator,
+as CG needs. All levels live in flat buffers (``offsets``) in the padded layout
+of ``cells.py``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from aquagait.fluid.cells import padded_shape
+
+PRE_SMOOTH = 2
+"""Red-black sweeps before (and after) each coarse-grid correction."""
+
+COARSEST_SWEEPS = 16
+"""Symmetric sweep pairs that stand in for an exact solve on the coarsest grid."""
+
+
+@dataclass(frozen=True)
+class Hierarchy:
+    """The levels of a multigrid cycle for one set of solid cells.
+
+    Attributes:
+        shapes: ``(levels, 3)`` padded array shape of each level, finest first.
+        offsets: ``(levels + 1,)`` start of each level in the flat buffers.
+        diag: flat, the Laplacian's diagonal per level (0 at solid and ghost cells).
+        three_d: whether z is a real axis (False: the 2D layout, one z layer).
+    """
+
+    shapes: np.ndarray
+    offsets: np.ndarray
+    diag: np.ndarray
+    three_d: bool
+
+    @property
+    def levels(self) -> int:
+        return len(self.shapes)
+
+    def level_diag(self, level: int) -> np.ndarray:
+        """The padded 3D diagonal of one level (a view)."""
+        lo, hi = self.offsets[level], self.offsets[level + 1]
+        return self.diag[lo:hi].reshape(self.shapes[level])
+
+
+def build_hierarchy(solid: np.ndarray) -> Hierarchy:
+    """Coarsen a solid-cell mask into a multigrid hierarchy.
+
+    Args:
+        solid: boolean cell mask, ``(nx, ny)`` or ``(nx, ny, nz)``; no enclosed
+            fluid pockets (see ``cells.seal_pockets``).
+    Returns:
+        the hierarchy, finest level first.
+    """
+    three_d = solid.ndim == 3
+    masks = [np.asarray(solid, dtype=np.bool_)]
+    while min(masks[-1].shape) > 2:
+        masks.append(_coarsen(masks[-1]))
+    shapes = np.array([padded_shape(m.shape) for m in masks], dtype=np.int64)
+    offsets = np.concatenate([[0], np.cumsum(np.prod(shapes, axis=1))]).astype(np.int64)
+    diag = np.zeros(offsets[-1])
+    for level, mask in enumerate(masks):
+        level_diag = diag[offsets[level] : offsets[level + 1]].reshape(shapes[level])
+        _fill_diag(mask.reshape(mask.shape + (1,) * (3 - mask.ndim)), level_diag, three_d)
+    return Hierarchy(shapes, offsets, diag, three_d)
+
+
+def _coarsen(solid: np.ndarray) -> np.ndarray:
+    """A coarse cell is solid only when all of its (existing) children are."""
+    fluid = ~solid
+    padded = np.zeros(tuple(n + n % 2 for n in solid.shape), dtype=np.bool_)
+    padded[tuple(slice(0, n) for n in solid.shape)] = fluid
+    blocks = padded.reshape(sum(((n // 2, 2) for n in padded.shape), ()))
+    return ~blocks.any(axis=tuple(range(1, 2 * solid.ndim, 2)))
+
+
+@numba.njit(cache=True)
+def _fill_diag(solid, diag, three_d):
+    nx, ny, nz = solid.shape
+    kz = 1 if three_d else 0
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if solid[i, j, k]:
+                    continue
+                count = 0
+                for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                    a, b = i + di, j + dj
+                    if not (0 <= a < nx and 0 <= b < ny) or not solid[a, b, k]:
+                        count += 1
+                if three_d:
+                    for c in (k - 1, k + 1):
+                        if not (0 <= c < nz) or not solid[i, j, c]:
+                            count += 1
+                diag[i + 1, j + 1, k + kz] = count
+
+
+@numba.njit(cache=True)
+def laplacian(x, diag, out, three_d):
+    """``out = L x`` in the padded layout: ``diag * x - sum of neighbours``."""
+    nx, ny, nz = x.shape
+    k0, k1 = (1, nz - 1) if three_d else (0, 1)
+    for i in range(1, nx - 1):
+        for j in range(1, ny - 1):
+            for k in range(k0, k1):
+                d = diag[i, j, k]
+                if d == 0.0:
+                    out[i, j, k] = 0.0
+                    continue
+                s = x[i - 1, j, k] + x[i + 1, j, k] + x[i, j - 1, k] + x[i, j + 1, k]
+                if three_d:
+                    s += x[i, j, k - 1] + x[i, j, k + 1]
+                out[i, j, k] = d * x[i, j, k] - s
+
+
+@numba.njit(cache=True)
+def _smooth(x, b, diag, color, three_d):
+    """One red (color 0) or black (color 1) Gauss-Seidel half sweep, in place."""
+    nx, ny, nz = x.shape
+    k0, k1 = (1, nz - 1) if three_d else (0, 1)
+    for i in range(1, nx - 1):
+        for j in range(1, ny - 1):
+            if three_d:
+                start = k0 + ((i + j + k0 + color) & 1)
+                for k in range(start, k1, 2):
+                    d = diag[i, j, k]
+                    if d != 0.0:
+                        s = x[i - 1, j, k] + x[i + 1, j, k] + x[i, j - 1, k] + x[i, j + 1, k]
+                        s += x[i, j, k - 1] + x[i, j, k + 1]
+                        x[i, j, k] = (b[i, j, k] + s) / d
+            elif (i + j + color) & 1 == 0:
+                d = diag[i, j, 0]
+                if d != 0.0:
+                    s = x[i - 1, j, 0] + x[i + 1, j, 0] + x[i, j - 1, 0] + x[i, j + 1, 0]
+                    x[i, j, 0] = (b[i, j, 0] + s) / d
+
+
+@numba.njit(cache=True)
+def _residual(x, b, diag, r, three_d):
+    laplacian(x, diag, r, three_d)
+    nx, ny, nz = x.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                r[i, j, k] = b[i, j, k] - r[i, j, k] if diag[i, j, k] != 0.0 else 0.0
+
+
+@numba.njit(cache=True)
+def _weights(fine, coarse):
+    """Linear-interpolation weight of coarse cell ``coarse`` at fine cell ``fine`` (0-based)."""
+    parent = fine // 2
+    if coarse == parent:
+        return 0.75
+    other = parent - 1 if fine % 2 == 0 else parent + 1
+    return 0.25 if coarse == other else 0.0
+
+
+@numba.njit(cache=True)
+def _restrict(r, diag_c, b_c, three_d):
+    """``b_c = (4 / 2^dim) P^T r`` on non-solid coarse cells."""
+    fx, fy, fz = r.shape
+    cx, cy, cz = b_c.shape
+    scale = 0.5 if three_d else 1.0
+    kz = 1 if three_d else 0
+    for I in range(1, cx - 1):
+        for J in range(1, cy - 1):
+            for K in range(kz, cz - kz):
+                if diag_c[I, J, K] == 0.0:
+                    b_c[I, J, K] = 0.0
+                    continue
+                total = 0.0
+                for i in range(2 * I - 2, 2 * I + 2):  # padded fine index of 2(I-1)-1 .. 2(I-1)+2
+                    if i < 1 or i > fx - 2:
+                        continue
+                    wi = _weights(i - 1, I - 1)
+                    for j in range(2 * J - 2, 2 * J + 2):
+                        if j < 1 or j > fy - 2:
+                            continue
+                        wij = wi * _weights(j - 1, J - 1)
+                        if three_d:
+                            for k in range(2 * K - 2, 2 * K + 2):
+                                if 1 <= k <= fz - 2:
+                                    total += wij * _weights(k - 1, K - 1) * r[i, j, k]
+                        else:
+                            total += wij * r[i, j, 0]
+                b_c[I, J, K] = scale * total
+
+
+@numba.njit(cache=True)
+def _prolong_add(x_c, x, diag, three_d):
+    """``x += P x_c`` on non-solid fine cells."""
+    fx, fy, fz = x.shape
+    k0, k1 = (1, fz - 1) if three_d else (0, 1)
+    for i in range(1, fx - 1):
+        I = (i - 1) // 2 + 1
+        I2 = I - 1 if (i - 1) % 2 == 0 else I + 1
+        for j in range(1, fy - 1):
+            J = (j - 1) // 2 + 1
+            J2 = J - 1 if (j - 1) % 2 == 0 else J + 1
+            for k in range(k0, k1):
+                if diag[i, j, k] == 0.0:
+                    continue
+                if three_d:
+                    K = (k - 1) // 2 + 1
+                    K2 = K - 1 if (k - 1) % 2 == 0 else K + 1
+                    near = 0.75 * (0.75 * x_c[I, J, K] + 0.25 * x_c[I, J2, K]) + 0.25 * (
+                        0.75 * x_c[I2, J, K] + 0.25 * x_c[I2, J2, K]
+                    )
+                    far = 0.75 * (0.75 * x_c[I, J, K2] + 0.25 * x_c[I, J2, K2]) + 0.25 * (
+                        0.75 * x_c[I2, J, K2] + 0.25 * x_c[I2, J2, K2]
+                    )
+                    x[i, j, k] += 0.75 * near + 0.25 * far
+                else:
+                    x[i, j, 0] += 0.75 * (0.75 * x_c[I, J, 0] + 0.25 * x_c[I, J2, 0]) + 0.25 * (
+                        0.75 * x_c[I2, J, 0] + 0.25 * x_c[I2, J2, 0]
+                    )
+
+
+@numba.njit(cache=True)
+def _level(buffer, shapes, offsets, level):
+    lo, hi = offsets[level], offsets[level + 1]
+    return buffer[lo:hi].reshape((shapes[level, 0], shapes[level, 1], shapes[level, 2]))
+
+
+@numba.njit(cache=True)
+def vcycle(r, z, diag, shapes, offsets, work, three_d):
+    """``z = V r``: one symmetric multigrid V-cycle, the preconditioner of ``pcg``.
+
+    Args:
+        r: padded residual of the finest level.
+        z: padded output, same shape.
+        diag, shapes, offsets: the ``Hierarchy`` arrays.
+        work: ``(3, offsets[-1])`` scratch: per-level solution, right side, residual.
+        three_d: whether z is a real axis.
+    """
+    levels = shapes.shape[0]
+    xs, bs, rs = work[0], work[1], work[2]
+    _level(bs, shapes, offsets, 0)[:] = r
+    for level in range(levels):
+        x = _level(xs, shapes, offsets, level)
+        b = _level(bs, shapes, offsets, level)
+        d = _level(diag, shapes, offsets, level)
+        x[:] = 0.0
+        sweeps = PRE_SMOOTH if level < levels - 1 else COARSEST_SWEEPS
+        for _ in range(sweeps):
+            _smooth(x, b, d, 0, three_d)
+            _smooth(x, b, d, 1, three_d)
+        if level == levels - 1:
+            for _ in range(sweeps):  # the adjoint sweeps keep the coarse solve symmetric
+                _smooth(x, b, d, 1, three_d)
+                _smooth(x, b, d, 0, three_d)
+            break
+        res = _level(rs, shapes, offsets, level)
+        _residual(x, b, d, res, three_d)
+        _restrict(
+            res,
+            _level(diag, shapes, offsets, level + 1),
+            _level(bs, shapes, offsets, level + 1),
+            three_d,
+        )
+    for level in range(levels - 2, -1, -1):
+        x = _level(xs, shapes, offsets, level)
+        b = _level(bs, shapes, offsets, level)
+        d = _level(diag, shapes, offsets, level)
+        _prolong_add(_level(xs, shapes, offsets, level + 1), x, d, three_d)
+        for _ in range(PRE_SMOOTH):
+            _smooth(x, b, d, 1, three_d)
+            _smooth(x, b, d, 0, three_d)
+    z[:] = _level(xs, shapes, offsets, 0)
