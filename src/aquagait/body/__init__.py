@@ -1,0 +1,9 @@
+"""The articulated body: MJCF models (``model``) and their dynamics (``dynamics``).
+
+Never imports the fluid (DESIGN.md §3); only ``dynamics`` imports MuJoCo.
+"""
+
+from aquagait.body.dynamics import Dynamics
+from aquagait.body.model import Joint, Model, ModelError, load_model
+
+__all__ = ["Dynamics", "Joint", "Model", "ModelError", "load_model"]

@@ -1,0 +1,486 @@
+"""Creature models: load an MJCF, check it is a swimmer we can simulate, describe it.
+
+A creature is one tree of links under the world (DESIGN.md §2.2):
+
+- 3D: the root link has a ``<freejoint/>`` (6 DOF: position, quaternion).
+- 2D (planar): the root link has exactly the joints slide x, slide y, hinge z,
+  in that order, and everything lives in the x-y plane. Every link is a prism
+  of depth ``depth`` along z, centred on z = 0, so its mass is
+  ``density * cross-section area * depth``. The depth is declared in the MJCF
+  as ``<custom><numeric name="aquagait_depth" data="D"/></custom>`` [m], and
+  every geom must be such a prism: a box with half-size ``D/2`` along z, a
+  cylinder whose axis is z with half-height ``D/2``, or a mesh whose vertices
+  all lie on z = +-D/2 (an extruded convex polygon).
+
+Every other joint is actuated: hinge (1 DOF) or ball (3 DOF), with limits
+(``range``; degrees unless the MJCF says ``<compiler angle="radian"/>``).
+Masses come from geoms only: every geom carries ``density`` > 0 (directly or
+through its default class); ``<inertial>`` and geom ``mass`` are refused so
+that the mass always matches the volume the fluid sees. Gravity is off.
+Allowed geoms: capsule, box, sphere, ellipsoid, cylinder, mesh.
+
+Every check fails with a ``ModelError`` naming the file, the element and what
+would be right, before MuJoCo's dynamics is ever called.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe
+
+DEPTH_NAME = "aquagait_depth"
+GEOM_KINDS = ("capsule", "box", "sphere", "ellipsoid", "cylinder", "mesh")
+ACTUATED_KINDS = ("hinge", "ball")
+
+
+class ModelError(ValueError):
+    """An MJCF that aquagait cannot simulate; the message says where and why."""
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One MuJoCo joint.
+
+    ``kind``: 'free', 'slide', 'hinge' or 'ball'; ``link``: index of the link it
+    moves; ``qpos``/``dof``: first index into q (nq,) and qd (nv,); ``nq``/``nv``
+    its sizes; ``range``: (lo, hi) [rad or m] for hinges and slides, (0, max
+    rotation angle) for balls, None when unlimited; ``axis``: (3,) world axis at
+    the reference pose (hinge and slide).
+    """
+
+    name: str
+    kind: str
+    link: int
+    qpos: int
+    dof: int
+    nq: int
+    nv: int
+    range: tuple[float, float] | None
+    axis: tuple[float, float, float]
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """A checked creature model (fixed; shipped with the scene to workers).
+
+    Attributes:
+        source: the file path, or '<string>'.
+        mj: the compiled MuJoCo model; opaque outside ``aquagait.body``.
+        dim: 2 (planar prism) or 3.
+        depth: the prism depth [m] in 2D, None in 3D.
+        links: link names (MuJoCo bodies without the world), nlinks.
+        link_mass: (nlinks,) [kg].
+        joints: every joint, root first.
+        root_dofs: (3,) in 2D (x, y, theta) or (6,) in 3D, indices into qd.
+        actuated_dofs: (na,) indices into qd of the gait-driven DOFs.
+        dof_names: (nv,) names: the joint name, or 'joint:x|y|z' for a ball's
+            components and 'root:x|y|z|rx|ry|rz' for a free root.
+        lower, upper: (na,) joint limits of the actuated DOFs [rad] (a ball
+            joint's limit applies to each component).
+        mass: total mass [kg] (2D: of the prism of depth ``depth``).
+        extent: (3,) sides of the world bounding box of all geoms at the
+            reference pose [m].
+        body_length: the longest of them [m].
+        qpos0: (nq,) reference configuration.
+    """
+
+    source: str
+    mj: object
+    dim: int
+    depth: float | None
+    links: tuple[str, ...]
+    link_mass: np.ndarray
+    joints: tuple[Joint, ...]
+    root_dofs: np.ndarray
+    actuated_dofs: np.ndarray
+    dof_names: tuple[str, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    mass: float
+    extent: np.ndarray
+    body_length: float
+    qpos0: np.ndarray
+
+    @property
+    def nq(self) -> int:
+        return int(self.qpos0.shape[0])
+
+    @property
+    def nv(self) -> int:
+        return len(self.dof_names)
+
+    def joint(self, name: str) -> Joint:
+        """The joint called ``name``; the error lists the known ones."""
+        for joint in self.joints:
+            if joint.name == name:
+                return joint
+        known = ", ".join(j.name for j in self.joints if j.name)
+        raise KeyError(f"{self.source}: no joint {name!r}; joints: {known}")
+
+    def dof(self, name: str) -> int:
+        """Index into qd of the DOF called ``name`` (see ``dof_names``)."""
+        if name not in self.dof_names:
+            raise KeyError(f"{self.source}: no DOF {name!r}; DOFs: {', '.join(self.dof_names)}")
+        return self.dof_names.index(name)
+
+
+def load_model(mjcf: str | Path) -> Model:
+    """Load and check an MJCF creature.
+
+    Args:
+        mjcf: a path to an MJCF file, or the MJCF text itself (a string
+            starting with '<').
+
+    Returns:
+        The checked ``Model``.
+
+    Raises:
+        ModelError: the MJCF is malformed or not a swimmer we can simulate; the
+            message names the file, the element and the fix.
+    """
+    text, path, source = _read(mjcf)
+    _check_xml(text, source)
+    try:
+        mj = compile_mjcf(path=path) if path is not None else compile_mjcf(xml=text)
+    except ValueError as err:
+        raise ModelError(f"{source}: MuJoCo cannot compile it: {err}") from None
+    facts = describe(mj)
+    root = _check_tree(facts, source)
+    dim = _root_dimension(facts, root, source)
+    _check_joints(facts, root, source)
+    _check_geoms(facts, source)
+    depth = _depth(facts, dim, source)
+    if dim == 2:
+        _check_planar(facts, root, depth, source)
+    return _build(mj, facts, source, dim, depth, root)
+
+
+# --- reading and raw-XML checks (what the compiled model no longer shows) ----
+
+
+def _read(mjcf) -> tuple[str, Path | None, str]:
+    if isinstance(mjcf, str) and mjcf.lstrip().startswith("<"):
+        return mjcf, None, "<string>"
+    path = Path(mjcf)
+    if not path.is_file():
+        raise ModelError(f"{path}: no such MJCF file")
+    return path.read_text(), path, str(path)
+
+
+def _check_xml(text: str, source: str) -> None:
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as err:
+        raise ModelError(f"{source}: not well-formed XML: {err}") from None
+    if root.tag != "mujoco":
+        raise ModelError(
+            f"{source}: the root element is <{root.tag}>; an MJCF starts with <mujoco>"
+        )
+    for tag, why in [
+        ("include", "aquagait checks densities in one file; inline the included MJCF"),
+        ("equality", "aquagait does not solve equality constraints"),
+    ]:
+        if root.find(f".//{tag}") is not None:
+            raise ModelError(f"{source}: <{tag}> is not supported: {why}")
+    for compiler in root.iter("compiler"):
+        if compiler.get("inertiafromgeom", "").lower() == "false":
+            raise ModelError(
+                f"{source}: <compiler inertiafromgeom='false'>: masses must come from geoms"
+            )
+    worldbody = root.find("worldbody")
+    if worldbody is None:
+        raise ModelError(f"{source}: no <worldbody>: the creature's bodies go inside it")
+    static = worldbody.find("geom")
+    if static is not None:
+        raise ModelError(
+            f"{source}: {_geom_label(static)} sits directly in <worldbody>: "
+            "a creature is one tree of bodies; static scenery is not supported"
+        )
+    classes = _default_classes(root)
+    _walk_bodies(worldbody, "main", classes, source)
+
+
+def _default_classes(root) -> dict[str, tuple[str | None, dict]]:
+    """Default classes: name -> (parent class name, geom attributes)."""
+    classes: dict[str, tuple[str | None, dict]] = {}
+
+    def visit(element, name, parent):
+        geom = element.find("geom")
+        classes[name] = (parent, dict(geom.attrib) if geom is not None else {})
+        for child in element.findall("default"):
+            visit(child, child.get("class", "main"), name)
+
+    for top in root.findall("default"):
+        visit(top, top.get("class", "main"), None)
+    classes.setdefault("main", (None, {}))
+    return classes
+
+
+def _default_attr(classes, name, attr):
+    while name is not None and name in classes:
+        parent, attrs = classes[name]
+        if attr in attrs:
+            return attrs[attr]
+        name = parent
+    return None
+
+
+def _walk_bodies(element, childclass, classes, source) -> None:
+    for body in element.findall("body"):
+        label = f"body {body.get('name')!r}" if body.get("name") else "an unnamed body"
+        if body.find("inertial") is not None:
+            raise ModelError(
+                f"{source}: {label} has an <inertial> element: masses must come from geom "
+                "densities so they match the volume the fluid sees; remove it"
+            )
+        if body.find("geom") is None:
+            raise ModelError(
+                f"{source}: {label} has no <geom>; every link needs volume (and so mass)"
+            )
+        cls = body.get("childclass", childclass)
+        for index, geom in enumerate(body.findall("geom")):
+            _check_geom_xml(geom, index, label, geom.get("class", cls), classes, source)
+        _walk_bodies(body, cls, classes, source)
+
+
+def _check_geom_xml(geom, index, body_label, cls, classes, source) -> None:
+    where = f"{_geom_label(geom, index)} in {body_label}"
+    kind = geom.get("type") or _default_attr(classes, cls, "type") or "sphere"
+    if kind not in GEOM_KINDS:
+        raise ModelError(f"{source}: {where} is a {kind}; allowed: {', '.join(GEOM_KINDS)}")
+    if geom.get("mass") is not None or _default_attr(classes, cls, "mass") is not None:
+        raise ModelError(f"{source}: {where} sets mass; give density [kg/m^3] instead")
+    density = geom.get("density") or _default_attr(classes, cls, "density")
+    if density is None:
+        raise ModelError(f'{source}: {where} has no density; add density="1000" (water) [kg/m^3]')
+    try:
+        value = float(density)
+    except ValueError:
+        raise ModelError(f"{source}: {where} has density {density!r}, not a number") from None
+    if not value > 0:
+        raise ModelError(f"{source}: {where} has density {value:g}; it must be > 0 [kg/m^3]")
+
+
+def _geom_label(geom, index=None) -> str:
+    if geom.get("name"):
+        return f"geom {geom.get('name')!r}"
+    return "an unnamed geom" if index is None else f"geom #{index}"
+
+
+# --- checks on the compiled model ---------------------------------------------
+
+
+def _link(facts: CompiledFacts, k: int) -> str:
+    name = facts.link_names[k]
+    return f"link {name!r}" if name else f"link #{k}"
+
+
+def _joint(facts: CompiledFacts, j: int) -> str:
+    name = facts.joint_names[j]
+    label = f"joint {name!r}" if name else f"joint #{j}"
+    return f"{label} in {_link(facts, facts.joint_link[j])}"
+
+
+def _check_tree(facts: CompiledFacts, source: str) -> int:
+    roots = np.flatnonzero(facts.parent == -1)
+    if roots.size == 0:
+        raise ModelError(f"{source}: no bodies in <worldbody>; a creature needs at least one")
+    if roots.size > 1:
+        names = ", ".join(_link(facts, k) for k in roots)
+        raise ModelError(
+            f"{source}: several bodies directly in <worldbody> ({names}); "
+            "a creature is one tree under one root body"
+        )
+    return int(roots[0])
+
+
+def _root_dimension(facts: CompiledFacts, root: int, source: str) -> int:
+    joints = np.flatnonzero(facts.joint_link == root)
+    kinds = [facts.joint_kind[j] for j in joints]
+    fix = (
+        "give the root body <freejoint/> (3D) or the joints slide x, slide y, "
+        "hinge z in that order (2D)"
+    )
+    if not kinds:
+        raise ModelError(f"{source}: no root joint: {_link(facts, root)} is fixed; {fix}")
+    if kinds == ["free"]:
+        return 3
+    planar = np.eye(3)
+    axes = facts.joint_axis[joints] if len(joints) == 3 else None
+    if kinds == ["slide", "slide", "hinge"] and np.allclose(axes, planar, atol=1e-9):
+        return 2
+    raise ModelError(
+        f"{source}: the root joints of {_link(facts, root)} are {kinds}; {fix}, "
+        "with the axes along world x, y, z"
+    )
+
+
+def _check_joints(facts: CompiledFacts, root: int, source: str) -> None:
+    for j in np.flatnonzero(facts.joint_link != root):
+        kind, (lo, hi) = facts.joint_kind[j], facts.joint_range[j]
+        if kind not in ACTUATED_KINDS:
+            raise ModelError(
+                f"{source}: {_joint(facts, j)} is a {kind} joint; below the root only "
+                f"hinge and ball joints are allowed"
+            )
+        if not facts.joint_limited[j] or not (hi > lo if kind == "hinge" else hi > 0):
+            raise ModelError(
+                f"{source}: {_joint(facts, j)} has no limits; the gait needs them: add "
+                'range="lo hi" (a ball: range="0 max")'
+            )
+        if facts.joint_passive[j]:
+            raise ModelError(
+                f"{source}: {_joint(facts, j)} has stiffness or damping; aquagait ignores "
+                "passive joint forces: set them in the PD gains instead"
+            )
+
+
+def _check_geoms(facts: CompiledFacts, source: str) -> None:
+    for g, kind in enumerate(facts.geom_kind):
+        if kind not in GEOM_KINDS:
+            raise ModelError(
+                f"{source}: {_geom(facts, g)} is a {kind}; allowed: {', '.join(GEOM_KINDS)}"
+            )
+
+
+def _geom(facts: CompiledFacts, g: int) -> str:
+    name = facts.geom_names[g]
+    label = f"geom {name!r}" if name else f"geom #{g}"
+    return f"{label} in {_link(facts, facts.geom_link[g])}"
+
+
+def _depth(facts: CompiledFacts, dim: int, source: str) -> float | None:
+    declared = facts.numeric.get(DEPTH_NAME)
+    if dim == 3:
+        if declared is not None:
+            raise ModelError(
+                f"{source}: numeric {DEPTH_NAME!r} is set but the root is a free joint (3D); "
+                "the depth belongs to planar models only"
+            )
+        return None
+    example = f'<custom><numeric name="{DEPTH_NAME}" data="0.05"/></custom>'
+    if declared is None:
+        raise ModelError(f"{source}: a planar (2D) model must declare its prism depth: {example}")
+    if declared.size != 1 or not declared[0] > 0:
+        raise ModelError(
+            f"{source}: numeric {DEPTH_NAME!r} is {declared.tolist()}; "
+            "it must be one positive number [m]"
+        )
+    return float(declared[0])
+
+
+def _check_planar(facts: CompiledFacts, root: int, depth: float, source: str) -> None:
+    tol = 1e-6 * max(depth, 1e-3)
+    for j in np.flatnonzero(facts.joint_link != root):
+        if facts.joint_kind[j] != "hinge" or abs(abs(facts.joint_axis[j, 2]) - 1) > 1e-9:
+            raise ModelError(
+                f"{source}: the model is planar (2D) but {_joint(facts, j)} is not a hinge "
+                "about z; a planar creature bends only in the x-y plane"
+            )
+    off_plane = np.flatnonzero(np.abs(facts.link_pos[:, 2]) > tol)
+    if off_plane.size:
+        raise ModelError(
+            f"{source}: the model is planar (2D) but {_link(facts, off_plane[0])} is at "
+            f"z = {facts.link_pos[off_plane[0], 2]:g}; every link must lie in z = 0"
+        )
+    for g in range(len(facts.geom_kind)):
+        problem = _prism_problem(facts, g, depth, tol)
+        if problem:
+            raise ModelError(
+                f"{source}: the model is planar (2D) but {_geom(facts, g)} {problem}; a planar "
+                f"geom is a prism of depth {depth:g} m along z centred on z = 0: a box with "
+                "z half-size depth/2, a cylinder along z with half-height depth/2, or a mesh "
+                "with every vertex at z = +-depth/2"
+            )
+
+
+def _prism_problem(facts: CompiledFacts, g: int, depth: float, tol: float) -> str | None:
+    kind, size, rot = facts.geom_kind[g], facts.geom_size[g], facts.geom_rot[g]
+    if abs(facts.geom_pos[g, 2]) > tol and kind != "mesh":
+        return f"is centred at z = {facts.geom_pos[g, 2]:g}"
+    if kind in ("box", "cylinder"):
+        if abs(abs(rot[2, 2]) - 1) > 1e-9:
+            return "is tilted out of the x-y plane"
+        half = size[2] if kind == "box" else size[1]
+        if abs(half - depth / 2) > tol:
+            return f"has z half-size {half:g}"
+        return None
+    if kind == "mesh":
+        off = np.abs(np.abs(facts.geom_vertices[g][:, 2]) - depth / 2)
+        if off.max() > tol:
+            return f"has a vertex at z = {facts.geom_vertices[g][off.argmax(), 2]:.4g}"
+        return None
+    return f"is a {kind}"
+
+
+# --- the description ------------------------------------------------------------
+
+
+def _build(mj, facts: CompiledFacts, source, dim, depth, root) -> Model:
+    joints = tuple(_joint_record(facts, j) for j in range(len(facts.joint_names)))
+    dof_names = [""] * facts.nv
+    for joint in joints:
+        for i, name in enumerate(_dof_labels(joint)):
+            dof_names[joint.dof + i] = name
+    root_dofs = np.array([d for j in joints if j.link == root for d in range(j.dof, j.dof + j.nv)])
+    actuated = [j for j in joints if j.link != root]
+    lower = np.concatenate([_limits(j)[0] for j in actuated]) if actuated else np.zeros(0)
+    upper = np.concatenate([_limits(j)[1] for j in actuated]) if actuated else np.zeros(0)
+    box = facts.geom_box
+    extent = box[:, 1].max(axis=0) - box[:, 0].min(axis=0)
+    return Model(
+        source=source,
+        mj=mj,
+        dim=dim,
+        depth=depth,
+        links=facts.link_names,
+        link_mass=facts.link_mass,
+        joints=joints,
+        root_dofs=root_dofs,
+        actuated_dofs=np.array([d for j in actuated for d in range(j.dof, j.dof + j.nv)], int),
+        dof_names=tuple(dof_names),
+        lower=lower,
+        upper=upper,
+        mass=float(facts.link_mass.sum()),
+        extent=extent,
+        body_length=float(extent.max()),
+        qpos0=facts.qpos0,
+    )
+
+
+def _joint_record(facts: CompiledFacts, j: int) -> Joint:
+    kind = facts.joint_kind[j]
+    nq, nv = {"free": (7, 6), "ball": (4, 3), "hinge": (1, 1), "slide": (1, 1)}[kind]
+    lo, hi = facts.joint_range[j]
+    return Joint(
+        name=facts.joint_names[j],
+        kind=kind,
+        link=int(facts.joint_link[j]),
+        qpos=int(facts.joint_qpos[j]),
+        dof=int(facts.joint_dof[j]),
+        nq=nq,
+        nv=nv,
+        range=(float(lo), float(hi)) if facts.joint_limited[j] else None,
+        axis=tuple(float(a) for a in facts.joint_axis[j]),
+    )
+
+
+def _dof_labels(joint: Joint) -> list[str]:
+    name = joint.name or f"joint{joint.dof}"
+    if joint.kind == "free":
+        return [f"root:{s}" for s in ("x", "y", "z", "rx", "ry", "rz")]
+    if joint.kind == "ball":
+        return [f"{name}:{s}" for s in "xyz"]
+    return [name]
+
+
+def _limits(joint: Joint) -> tuple[np.ndarray, np.ndarray]:
+    lo, hi = joint.range
+    if joint.kind == "ball":
+        return np.full(3, -hi), np.full(3, hi)
+    return np.array([lo]), np.array([hi])
