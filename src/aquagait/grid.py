@@ -120,6 +120,17 @@ class Grid:
         ]
         return tuple(np.meshgrid(*axes, indexing="ij"))
 
+    def ball(self, center, radius: float) -> np.ndarray:
+        """Boolean mask of the cells whose centres lie inside a disc (2D) or sphere (3D).
+
+        Args:
+            center: world position, one entry per axis [m].
+            radius: [m].
+        """
+        centers = self.cell_centers()
+        r2 = sum((x - c) ** 2 for x, c in zip(centers, center, strict=True))
+        return r2 < radius**2
+
     def cell_of(self, point) -> tuple[int, ...]:
         """Index of the cell containing a world point (may lie outside the grid)."""
         rel = (np.asarray(point, dtype=float) - np.asarray(self.origin)) / self.cell_size

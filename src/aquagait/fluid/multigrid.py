@@ -77,7 +77,31 @@ def build_hierarchy(solid: np.ndarray) -> Hierarchy:
     for level, mask in enumerate(masks):
         level_diag = diag[offsets[level] : offsets[level + 1]].reshape(shapes[level])
         _fill_diag(mask.reshape(mask.shape + (1,) * (3 - mask.ndim)), level_diag, three_d)
+        _place_open_boundary(level_diag, solid.shape, level)
     return Hierarchy(shapes, offsets, diag, three_d)
+
+
+def _place_open_boundary(diag: np.ndarray, fine_shape: tuple[int, ...], level: int) -> None:
+    """Put a coarse level's Dirichlet condition where the finest grid has it.
+
+    The finest ghosts sit half a fine cell outside the grid; a coarse level's
+    ghosts sit half a coarse cell outside, too far. A border cell whose centre
+    is ``theta`` of its own cell size from the true boundary couples to it
+    with weight ``1 / theta`` instead of 1 (ghost-fluid style). Without this,
+    errors next to the open boundary converge several times slower.
+    """
+    for axis, n_fine in enumerate(fine_shape):
+        size = 2**level
+        n = -(-n_fine // size)  # cells of this level along the axis
+        theta_lo = (0.5 * size + 0.5) / size
+        theta_hi = ((n_fine + 0.5) - (n - 0.5) * size) / size
+        for index, theta in ((1, theta_lo), (n, theta_hi)):
+            layer = [slice(1, -1)] * diag.ndim
+            if len(fine_shape) == 2:
+                layer[2] = slice(None)
+            layer[axis] = index
+            border = diag[tuple(layer)]
+            border[border != 0] += 1.0 / max(theta, 0.25) - 1.0
 
 
 def _coarsen(solid: np.ndarray) -> np.ndarray:
