@@ -1,0 +1,10 @@
+"""Control: sine gaits (``gait``) and the PD servos that track them (``pd``).
+
+Above ``sim`` in the layers: the simulation receives a policy object and never
+imports this package (see ``aquagait.sim`` for the seam).
+"""
+
+from aquagait.control.gait import KINDS, GaitSpec, SineGait
+from aquagait.control.pd import PD, StablePD, gains
+
+__all__ = ["KINDS", "PD", "GaitSpec", "SineGait", "StablePD", "gains"]

@@ -1,0 +1,240 @@
+"""Sine gaits: a flat parameter vector mapped onto per-DOF sines (DESIGN.md §2.4, paper §4).
+
+Each actuated DOF i follows the reference
+
+    qbar_i(t) = a_i sin(2 pi t / T_i + phi_i) + c_i
+
+with amplitude ``a`` [rad], phase ``phi`` [rad], period ``T`` [s] and offset
+``c`` [rad]. A ``GaitSpec`` says which of these *kinds* are optimized (by
+default amplitude and phase; period 1 s and offset 0 fixed) and how the flat
+vector ``x`` that CMA-ES sees drives them:
+
+- ``shared`` kinds are one number for every DOF (an accordion: one amplitude);
+- ``mirror`` copies a DOF's sine onto another with a sign, ``qbar_m = sign *
+  qbar_source`` (left and right limbs: half the parameters);
+- ``groups`` split the DOFs into sets optimized in turn (frog: hind, then fore).
+
+Parameter names read ``amplitude[j1]`` or, when shared, ``amplitude``; the
+layout of ``x`` is: for each free kind in ``KINDS`` order, one entry (shared)
+or one per independent (not mirrored) DOF in ``dofs`` order.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+KINDS = ("amplitude", "phase", "period", "offset")
+DEFAULT_BOUNDS = {
+    "amplitude": (0.0, 1.0),  # rad
+    "phase": (-np.pi, np.pi),  # rad
+    "period": (0.5, 2.0),  # s
+    "offset": (-0.5, 0.5),  # rad
+}
+
+
+@dataclass(frozen=True)
+class SineGait:
+    """Per-DOF sine references, all arrays (n,) over ``dofs``.
+
+    Attributes:
+        dofs: names of the driven DOFs (``Model.dof_names`` entries).
+        amplitude: a [rad] (may be negative on a mirrored DOF).
+        phase: phi [rad].
+        period: T [s], > 0.
+        offset: c [rad].
+    """
+
+    dofs: tuple[str, ...]
+    amplitude: np.ndarray
+    phase: np.ndarray
+    period: np.ndarray
+    offset: np.ndarray
+
+    def angles(self, t: float) -> np.ndarray:
+        """Reference angles qbar(t), (n,) [rad]."""
+        return self.amplitude * np.sin(2 * np.pi * t / self.period + self.phase) + self.offset
+
+    def rates(self, t: float) -> np.ndarray:
+        """Reference angular rates d qbar / dt, (n,) [rad/s]."""
+        omega = 2 * np.pi / self.period
+        return self.amplitude * omega * np.cos(omega * t + self.phase)
+
+    def mirrored(self) -> SineGait:
+        """The gait with every reference angle negated: the mirror image for yaw joints."""
+        return SineGait(self.dofs, -self.amplitude, self.phase, self.period, -self.offset)
+
+
+@dataclass(frozen=True)
+class GaitSpec:
+    """Which sine parameters are optimized and how they drive the DOFs.
+
+    Attributes:
+        dofs: driven DOF names in order (e.g. ``("j1", "j2")``; a ball joint's
+            components are ``"name:x"``, ``"name:y"``, ``"name:z"``).
+        free: kinds in the parameter vector, a subset of ``KINDS``.
+        shared: free kinds that are one number for all DOFs.
+        mirror: ``(dof, source, sign)`` triples: ``qbar_dof = sign * qbar_source``.
+        groups: tuples of DOF names optimized in turn; empty means one group.
+        bounds: search bounds by kind (``"amplitude"``) or by parameter
+            (``"amplitude[j3]"``), overriding ``DEFAULT_BOUNDS``.
+        amplitude, phase, period, offset: the values of kinds that are not free.
+    """
+
+    dofs: tuple[str, ...]
+    free: tuple[str, ...] = ("amplitude", "phase")
+    shared: tuple[str, ...] = ()
+    mirror: tuple[tuple[str, str, float], ...] = ()
+    groups: tuple[tuple[str, ...], ...] = ()
+    bounds: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    amplitude: float = 0.0
+    phase: float = 0.0
+    period: float = 1.0
+    offset: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "dofs", tuple(self.dofs))
+        object.__setattr__(self, "mirror", tuple(tuple(m) for m in self.mirror))
+        object.__setattr__(self, "groups", tuple(tuple(g) for g in self.groups))
+        _check_spec(self)
+
+    # --- layout -------------------------------------------------------------
+    @property
+    def independent(self) -> tuple[str, ...]:
+        """DOFs with their own parameters (not mirrored copies)."""
+        mirrored = {m[0] for m in self.mirror}
+        return tuple(d for d in self.dofs if d not in mirrored)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Name of each entry of the parameter vector, in order."""
+        names = []
+        for kind in (k for k in KINDS if k in self.free):
+            names += [kind] if kind in self.shared else [f"{kind}[{d}]" for d in self.independent]
+        return tuple(names)
+
+    @property
+    def size(self) -> int:
+        """Length of the parameter vector."""
+        return len(self.names)
+
+    @property
+    def lower(self) -> np.ndarray:
+        """(size,) lower search bounds."""
+        return np.array([self._bound(n)[0] for n in self.names])
+
+    @property
+    def upper(self) -> np.ndarray:
+        """(size,) upper search bounds."""
+        return np.array([self._bound(n)[1] for n in self.names])
+
+    def _bound(self, name: str) -> tuple[float, float]:
+        kind = name.split("[")[0]
+        return tuple(self.bounds.get(name, self.bounds.get(kind, DEFAULT_BOUNDS[kind])))
+
+    def group_indices(self, group: int) -> np.ndarray:
+        """Indices into the parameter vector optimized in ``group`` (shared ones are in all)."""
+        groups = self.groups or (self.dofs,)
+        if not 0 <= group < len(groups):
+            raise IndexError(f"gait has {len(groups)} group(s); asked for group {group}")
+        members = set(groups[group])
+        dof_of = [n[n.index("[") + 1 : -1] if "[" in n else None for n in self.names]
+        return np.array([i for i, d in enumerate(dof_of) if d is None or d in members], dtype=int)
+
+    # --- vector <-> sines -----------------------------------------------------
+    def unpack(self, x) -> SineGait:
+        """The per-DOF sines driven by parameter vector ``x`` (size,)."""
+        x = np.asarray(x, dtype=float)
+        if x.shape != (self.size,):
+            raise ValueError(
+                f"gait parameter vector has shape {x.shape}; this gait has {self.size}: "
+                f"{', '.join(self.names)}"
+            )
+        values = dict(zip(self.names, x, strict=True))
+        per_kind = {}
+        for kind in KINDS:
+            fixed = getattr(self, kind)
+            per_kind[kind] = {
+                d: values.get(kind, values.get(f"{kind}[{d}]", fixed)) for d in self.independent
+            }
+        for dof, source, sign in self.mirror:
+            for kind in KINDS:
+                value = per_kind[kind][source]
+                per_kind[kind][dof] = sign * value if kind in ("amplitude", "offset") else value
+        arrays = {k: np.array([per_kind[k][d] for d in self.dofs]) for k in KINDS}
+        if np.any(arrays["period"] <= 0):
+            raise ValueError(f"gait periods must be > 0 s; got {arrays['period']}")
+        return SineGait(self.dofs, **arrays)
+
+    def pack(self, **per_dof) -> np.ndarray:
+        """The parameter vector of per-DOF values: ``pack(amplitude=[...], phase=[...])``.
+
+        Each keyword is a free kind with one value per DOF in ``dofs`` (or a
+        scalar); a shared kind takes the first DOF's value, mirrored DOFs are
+        ignored.
+        """
+        unknown = set(per_dof) - set(self.free)
+        if unknown:
+            raise ValueError(f"{sorted(unknown)} are not free in this gait; free: {self.free}")
+        x = []
+        for name in self.names:
+            kind, _, dof = name.partition("[")
+            if kind not in per_dof:
+                raise ValueError(f"pack() needs a value for {kind!r}")
+            values = np.broadcast_to(np.asarray(per_dof[kind], dtype=float), (len(self.dofs),))
+            x.append(values[self.dofs.index(dof[:-1])] if dof else values[0])
+        return np.array(x)
+
+    def limit_violations(self, x, lower, upper) -> list[str]:
+        """DOFs whose sine leaves their joint limits: ``offset +- |amplitude|`` outside [lo, hi].
+
+        Args:
+            x: (size,) parameter vector.
+            lower, upper: (n,) joint limits of ``dofs`` [rad].
+
+        Returns:
+            One message per offending DOF; empty when the gait is admissible.
+        """
+        gait = self.unpack(x)
+        swing = np.abs(gait.amplitude)
+        low, high = gait.offset - swing, gait.offset + swing
+        return [
+            f"{d}: swings over [{lo:.3g}, {hi:.3g}] rad, limits [{a:.3g}, {b:.3g}]"
+            for d, lo, hi, a, b in zip(self.dofs, low, high, lower, upper, strict=True)
+            if lo < a - 1e-12 or hi > b + 1e-12
+        ]
+
+
+def _check_spec(spec: GaitSpec) -> None:
+    if len(set(spec.dofs)) != len(spec.dofs) or not spec.dofs:
+        raise ValueError(f"gait DOFs must be a non-empty list of distinct names; got {spec.dofs}")
+    for label, kinds in (("free", spec.free), ("shared", spec.shared)):
+        bad = [k for k in kinds if k not in KINDS]
+        if bad:
+            raise ValueError(f"gait {label} kinds {bad} unknown; kinds are {KINDS}")
+    if not set(spec.shared) <= set(spec.free):
+        raise ValueError(f"shared kinds {spec.shared} must also be free ({spec.free})")
+    mirrored = [m[0] for m in spec.mirror]
+    for dof, source, sign in spec.mirror:
+        if dof not in spec.dofs or source not in spec.dofs:
+            raise ValueError(f"mirror ({dof!r}, {source!r}) names a DOF not in {spec.dofs}")
+        if source in mirrored or dof == source:
+            raise ValueError(f"mirror source {source!r} must be an independent DOF")
+        if sign not in (-1, 1, -1.0, 1.0):
+            raise ValueError(f"mirror sign for {dof!r} must be +1 or -1, got {sign}")
+    if len(set(mirrored)) != len(mirrored):
+        raise ValueError(f"a DOF is mirrored twice in {spec.mirror}")
+    if spec.groups:
+        listed = [d for g in spec.groups for d in g]
+        if sorted(listed) != sorted(spec.dofs):
+            raise ValueError(f"gait groups {spec.groups} must list every DOF of {spec.dofs} once")
+    names = set(spec.names) | set(KINDS)
+    bad = [b for b in spec.bounds if b not in names]
+    if bad:
+        raise ValueError(f"bounds given for {bad}, which are not gait parameters: {spec.names}")
+    for name in spec.names:
+        lo, hi = spec._bound(name)
+        if not lo < hi:
+            raise ValueError(f"bounds of {name} are ({lo}, {hi}); need lower < upper")
