@@ -20,11 +20,23 @@ Glossary of symbols (SI units throughout):
 
 from importlib.metadata import PackageNotFoundError, version
 
+from aquagait import creatures
+from aquagait.body.model import load_model
 from aquagait.grid import Grid
+from aquagait.sim import init_state, make_scene, rollout, step
 
 try:
     __version__ = version("aquagait")
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0.0.0+unknown"
 
-__all__ = ["Grid", "__version__"]
+__all__ = [
+    "Grid",
+    "__version__",
+    "creatures",
+    "init_state",
+    "load_model",
+    "make_scene",
+    "rollout",
+    "step",
+]
