@@ -1,0 +1,147 @@
+"""Sine gaits: the parameter vector layout, sharing, mirroring, groups, bounds and limits."""
+
+import numpy as np
+import pytest
+
+from aquagait.control import GaitSpec
+
+DOFS = ("j1", "j2", "j3")
+
+
+def test_default_layout_is_amplitude_then_phase_per_dof():
+    spec = GaitSpec(dofs=DOFS)
+    assert spec.names == (
+        "amplitude[j1]", "amplitude[j2]", "amplitude[j3]",
+        "phase[j1]", "phase[j2]", "phase[j3]",
+    )  # fmt: skip
+    gait = spec.unpack([0.1, 0.2, 0.3, 0.0, -1.0, -2.0])
+    np.testing.assert_array_equal(gait.amplitude, [0.1, 0.2, 0.3])
+    np.testing.assert_array_equal(gait.phase, [0.0, -1.0, -2.0])
+    np.testing.assert_array_equal(gait.period, [1.0, 1.0, 1.0])  # fixed by default
+    np.testing.assert_array_equal(gait.offset, [0.0, 0.0, 0.0])
+
+
+def test_angles_follow_the_sine_formula_and_rates_are_its_derivative():
+    spec = GaitSpec(dofs=DOFS, free=("amplitude", "phase", "period", "offset"))
+    x = spec.pack(amplitude=[0.1, 0.2, 0.3], phase=[0, 1, 2], period=[1, 2, 0.5], offset=0.05)
+    gait = spec.unpack(x)
+    t = 0.37
+    expected = gait.amplitude * np.sin(2 * np.pi * t / gait.period + gait.phase) + gait.offset
+    np.testing.assert_allclose(gait.angles(t), expected, rtol=1e-15)
+    h = 1e-6
+    fd = (gait.angles(t + h) - gait.angles(t - h)) / (2 * h)
+    np.testing.assert_allclose(gait.rates(t), fd, rtol=1e-8)
+    # a quarter period after phase 0 the first DOF is at amplitude + offset
+    assert gait.angles(0.25)[0] == pytest.approx(0.15)
+
+
+def test_pack_and_unpack_are_inverse():
+    spec = GaitSpec(dofs=DOFS)
+    x = np.array([0.1, 0.2, 0.3, 0.5, -0.5, 1.5])
+    gait = spec.unpack(x)
+    np.testing.assert_array_equal(spec.pack(amplitude=gait.amplitude, phase=gait.phase), x)
+
+
+def test_shared_amplitude_drives_every_dof_with_one_number():
+    """The accordion: one optimized number, no phase shift between DOFs."""
+    spec = GaitSpec(dofs=DOFS, free=("amplitude",), shared=("amplitude",))
+    assert spec.names == ("amplitude",)
+    gait = spec.unpack([0.4])
+    np.testing.assert_array_equal(gait.amplitude, [0.4, 0.4, 0.4])
+    np.testing.assert_array_equal(gait.phase, [0.0, 0.0, 0.0])
+    np.testing.assert_allclose(gait.angles(0.1), np.full(3, 0.4 * np.sin(0.2 * np.pi)))
+
+
+def test_shared_period_is_one_number_among_per_dof_parameters():
+    spec = GaitSpec(dofs=DOFS, free=("amplitude", "phase", "period"), shared=("period",))
+    assert spec.size == 7 and spec.names[-1] == "period"
+    np.testing.assert_array_equal(spec.unpack(np.r_[np.zeros(6), 1.5]).period, [1.5] * 3)
+
+
+def test_mirror_copies_a_sine_with_a_sign_and_halves_the_parameters():
+    spec = GaitSpec(
+        dofs=("left", "right", "tail"),
+        free=("amplitude", "phase", "offset"),
+        mirror=(("right", "left", -1.0),),
+    )
+    assert spec.independent == ("left", "tail")
+    assert spec.size == 6
+    gait = spec.unpack(spec.pack(amplitude=[0.3, 0, 0.2], phase=[0.7, 0, 0.1], offset=0.1))
+    for t in np.linspace(0, 1, 7):
+        left, right, _ = gait.angles(t)
+        assert right == pytest.approx(-left, abs=1e-15)
+
+
+def test_mirrored_gait_negates_every_reference_angle():
+    spec = GaitSpec(dofs=DOFS, free=("amplitude", "phase", "offset"))
+    gait = spec.unpack(spec.pack(amplitude=[0.1, 0.2, 0.3], phase=[0, 1, 2], offset=[0.1, 0, -0.1]))
+    np.testing.assert_allclose(gait.mirrored().angles(0.3), -gait.angles(0.3), atol=1e-15)
+
+
+def test_groups_select_their_parameters_and_shared_ones_belong_to_all():
+    spec = GaitSpec(
+        dofs=("hind_l", "hind_r", "fore_l", "fore_r"),
+        free=("amplitude", "phase", "period"),
+        shared=("period",),
+        groups=(("hind_l", "hind_r"), ("fore_l", "fore_r")),
+    )
+    hind = [spec.names[i] for i in spec.group_indices(0)]
+    fore = [spec.names[i] for i in spec.group_indices(1)]
+    assert hind == ["amplitude[hind_l]", "amplitude[hind_r]", "phase[hind_l]", "phase[hind_r]",
+                    "period"]  # fmt: skip
+    assert fore == ["amplitude[fore_l]", "amplitude[fore_r]", "phase[fore_l]", "phase[fore_r]",
+                    "period"]  # fmt: skip
+    with pytest.raises(IndexError, match="2 group"):
+        spec.group_indices(2)
+
+
+def test_bounds_by_kind_and_by_parameter():
+    spec = GaitSpec(dofs=DOFS, bounds={"amplitude": (0, 0.5), "amplitude[j3]": (0, 0.9)})
+    np.testing.assert_allclose(spec.lower, [0, 0, 0, -np.pi, -np.pi, -np.pi])
+    np.testing.assert_allclose(spec.upper, [0.5, 0.5, 0.9, np.pi, np.pi, np.pi])
+
+
+def test_limit_violations_name_the_dofs_that_swing_too_far():
+    spec = GaitSpec(dofs=DOFS, free=("amplitude", "phase", "offset"))
+    x = spec.pack(amplitude=[0.3, 0.5, 0.2], phase=0.0, offset=[0.0, 0.0, 0.35])
+    limits = np.full(3, 0.4)
+    problems = spec.limit_violations(x, -limits, limits)
+    assert len(problems) == 2
+    assert problems[0].startswith("j2: swings over [-0.5, 0.5]")
+    assert problems[1].startswith("j3: swings over [0.15, 0.55]")
+    assert spec.limit_violations(spec.pack(amplitude=0.4, phase=0, offset=0), -limits, limits) == []
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"dofs": ("a", "a")}, "distinct names"),
+        ({"dofs": DOFS, "free": ("amplitude", "speed")}, "unknown"),
+        ({"dofs": DOFS, "shared": ("period",)}, "must also be free"),
+        ({"dofs": DOFS, "mirror": (("j2", "fin", -1),)}, "names a DOF not in"),
+        ({"dofs": DOFS, "mirror": (("j2", "j1", 2),)}, "must be \\+1 or -1"),
+        ({"dofs": DOFS, "mirror": (("j2", "j1", 1), ("j3", "j2", 1))}, "independent DOF"),
+        ({"dofs": DOFS, "groups": (("j1",), ("j2",))}, "every DOF"),
+        ({"dofs": DOFS, "bounds": {"speed": (0, 1)}}, "not gait parameters"),
+        ({"dofs": DOFS, "bounds": {"amplitude": (1, 0)}}, "lower < upper"),
+    ],
+)
+def test_bad_specs_say_what_is_wrong(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        GaitSpec(**kwargs)
+
+
+def test_a_wrong_vector_lists_the_parameters():
+    spec = GaitSpec(dofs=("j1",))
+    with pytest.raises(ValueError, match=r"this gait has 2: amplitude\[j1\], phase\[j1\]"):
+        spec.unpack([1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="needs a value for 'phase'"):
+        spec.pack(amplitude=0.1)
+    with pytest.raises(ValueError, match="not free"):
+        spec.pack(amplitude=0.1, phase=0, period=2)
+
+
+def test_non_positive_period_is_refused():
+    spec = GaitSpec(dofs=("j1",), free=("period",), bounds={"period": (0.1, 2)})
+    with pytest.raises(ValueError, match="periods must be > 0"):
+        spec.unpack([0.0])

@@ -1,0 +1,163 @@
+"""PD servos: the error they see, their gains, and why the stable form exists."""
+
+import numpy as np
+import pytest
+
+import aquagait as ag
+from aquagait.body import Dynamics
+from aquagait.control import PD, GaitSpec, StablePD, gains
+from aquagait.control.pd import quat_conj, quat_exp, quat_log, quat_mul
+from aquagait.sim import SimulationDiverged
+
+DT = 0.01
+# a planar two-link body: one actuated DOF, so the servo's stability bound is exact
+TWO_LINKS = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
+  <worldbody><body name="front">
+    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
+    <joint type="hinge" axis="0 0 1"/>
+    <geom type="box" size=".1 .02 .02" density="1000"/>
+    <body name="back" pos="-.1 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-60 60"/>
+      <geom type="box" size=".1 .015 .02" pos="-.1 0 0" density="1000"/></body>
+  </body></worldbody></mujoco>"""
+# 3D: a free root and a ball joint
+BALL = """<mujoco><worldbody><body name="shell"><freejoint/>
+    <geom type="ellipsoid" size=".2 .15 .05" density="1000"/>
+    <body name="flipper" pos="0 .15 0"><joint name="shoulder" type="ball" range="0 60"/>
+      <geom type="box" size=".05 .1 .01" pos="0 .1 0" density="1000"/></body>
+  </body></worldbody></mujoco>"""
+
+
+@pytest.fixture(scope="module")
+def eel():
+    return ag.creatures.get("eel2d")
+
+
+def eel_gait(amplitude=0.3):
+    spec = GaitSpec(dofs=("j1", "j2", "j3", "j4"))
+    return spec.unpack(spec.pack(amplitude=amplitude, phase=-1.5 * np.arange(4)))
+
+
+def test_on_the_reference_only_damping_acts(eel):
+    gait = eel_gait()
+    servo = StablePD.tuned(eel.model, gait, 100.0)
+    q = eel.model.qpos0.copy()
+    q[3:] = gait.angles(0.3)
+    qd = np.arange(7.0)
+    np.testing.assert_allclose(servo.error(0.3, q), 0, atol=1e-15)
+    np.testing.assert_allclose(servo(0.3, q, qd), -servo.kd * qd)
+    assert np.all(servo.kd[:3] == 0) and np.all(servo.kp[:3] == 0)
+
+
+def test_gains_set_each_servo_natural_frequency_on_its_apparent_inertia(eel):
+    kp, kd = gains(eel.model, 50.0, 0.7)
+    mass = Dynamics(eel.model.mj).mass_matrix(eel.model.qpos0)
+    inertia = 1 / np.diag(np.linalg.inv(mass))
+    np.testing.assert_allclose(kp[3:], 50.0**2 * inertia[3:])
+    np.testing.assert_allclose(kd[3:], 2 * 0.7 * 50.0 * inertia[3:])
+
+
+def test_only_stable_pd_carries_damping_for_the_step(eel):
+    gait = eel_gait()
+    assert np.array_equal(StablePD.tuned(eel.model, gait, 100.0).damping, gains(eel.model, 100)[1])
+    assert not hasattr(PD.tuned(eel.model, gait, 100.0), "damping")
+
+
+def test_bad_servos_are_refused(eel):
+    gait = eel_gait()
+    with pytest.raises(ValueError, match="zero on the root DOFs"):
+        PD(eel.model, gait, np.ones(7), np.zeros(7))
+    spec = GaitSpec(dofs=("j1", "root_x"))
+    with pytest.raises(ValueError, match=r"gait drives \['root_x'\], which are not actuated"):
+        PD(eel.model, spec.unpack([0.1, 0.1, 0, 0]), 0.0, 0.0)
+
+
+def test_quaternion_helpers_round_trip():
+    rng = np.random.default_rng(0)
+    for r in rng.normal(size=(5, 3)):
+        r *= 2.5 / np.linalg.norm(r)
+        np.testing.assert_allclose(quat_log(quat_exp(r)), r, atol=1e-12)
+        q = quat_exp(r)
+        np.testing.assert_allclose(quat_mul(quat_conj(q), q), [1, 0, 0, 0], atol=1e-15)
+
+
+def test_ball_joint_error_is_the_rotation_from_reference_in_the_child_frame():
+    model = ag.load_model(BALL)
+    spec = GaitSpec(dofs=("shoulder:x", "shoulder:y", "shoulder:z"))
+    gait = spec.unpack(spec.pack(amplitude=[0.3, 0.2, 0.1], phase=[0.5, 1, 1.5]))
+    servo = StablePD.tuned(model, gait, 100.0)
+    t, delta = 0.2, np.array([0.01, -0.02, 0.005])
+    q = model.qpos0.copy()
+    q[7:11] = quat_mul(quat_exp(gait.angles(t)), quat_exp(delta))
+    np.testing.assert_allclose(servo.error(t, q)[6:9], delta, atol=1e-12)
+    # on the reference, the error grows at the ball's angular velocity (MuJoCo's qvel,
+    # child frame), so -Kd qd damps the error it sees
+    dyn = Dynamics(model.mj)
+    q[7:11] = quat_exp(gait.angles(t))
+    qd, h = np.r_[np.zeros(6), 0.3, -0.1, 0.2], 1e-6
+    ahead, behind = (
+        servo.error(t, dyn.integrate(q, qd, h)),
+        servo.error(t, dyn.integrate(q, qd, -h)),
+    )
+    np.testing.assert_allclose((ahead - behind)[6:9] / (2 * h), qd[6:9], rtol=1e-8)
+
+
+def decay_ratio(servo_class, x, steps=100, zeta=1.0):
+    """|joint error| after ``steps`` over its start, for a servo with w dt = x."""
+    model = ag.load_model(TWO_LINKS)
+    spec = GaitSpec(dofs=("j",))
+    servo = servo_class.tuned(model, spec.unpack([0.0, 0.0]), x / DT, zeta)
+    scene = ag.make_scene(model)
+    state = ag.init_state(scene, qpos=np.r_[0, 0, 0, 1e-3])
+    try:
+        for _ in range(steps):
+            state = ag.step(scene, state, DT, servo)
+    except SimulationDiverged:
+        return np.inf
+    return abs(state.qpos[3]) / 1e-3
+
+
+def test_explicit_pd_stability_bound_matches_the_simulation():
+    """x^2 + 4 zeta x < 4: at zeta = 1, x < 2 (sqrt 2 - 1) = 0.83 (see control/pd.py)."""
+    assert decay_ratio(PD, 0.78) < 1
+    assert decay_ratio(PD, 0.88) > 1e3
+
+
+def test_stable_pd_stability_bound_matches_the_simulation():
+    """3 x^2 < 4 + 4 zeta x: at zeta = 1, x < 2 (see control/pd.py)."""
+    assert decay_ratio(StablePD, 1.9) < 1
+    assert decay_ratio(StablePD, 2.1) > 1e3
+
+
+def track(model, servo, gait, seconds=3.0):
+    """Largest tracking error after the first second, and when it first passed 100 x amplitude."""
+    scene = ag.make_scene(model)
+    state, worst, blow_up = ag.init_state(scene), 0.0, None
+    amplitude = np.abs(gait.amplitude).max()
+    try:
+        while state.time < seconds - 1e-9:
+            state = ag.step(scene, state, DT, servo)
+            error = np.abs(servo.error(state.time, state.qpos)).max()
+            if state.time > 1.0:
+                worst = max(worst, error)
+            if blow_up is None and error > 100 * amplitude:
+                blow_up = state.time
+    except SimulationDiverged:
+        blow_up = state.time if blow_up is None else blow_up
+    return worst, blow_up
+
+
+def test_stable_pd_tracks_a_1hz_sine_with_stiff_gains_where_explicit_pd_diverges(eel):
+    """w = 400 rad/s at dt = 0.01 s (w dt = 4), zeta = 3.
+
+    The stable PD follows the 1 Hz gait with the lag of a first-order servo,
+    time constant Kd / Kp = 2 zeta / w = 15 ms: error ~ A 2 pi f 2 zeta / w
+    = 0.094 A. The explicit PD with the same gains (stable only for w dt <
+    0.17 at zeta = 3) is 100 times off within a few steps.
+    """
+    gait, w, zeta = eel_gait(0.3), 400.0, 3.0
+    error, blow_up = track(eel.model, StablePD.tuned(eel.model, gait, w, zeta), gait)
+    lag = 0.3 * 2 * np.pi * 1.0 * 2 * zeta / w
+    assert blow_up is None
+    assert error < 1.1 * lag  # measured: 0.99 lag
+    _, blow_up = track(eel.model, PD.tuned(eel.model, gait, w, zeta), gait, seconds=0.5)
+    assert blow_up is not None and blow_up <= 0.05  # measured: 0.02 s, two steps

@@ -1,0 +1,141 @@
+"""The creature library: registry, the two paper creatures, their documentation and the CLI."""
+
+import dataclasses
+import importlib
+
+import numpy as np
+import pytest
+
+import aquagait as ag
+from aquagait import cli
+from aquagait.creatures import (
+    UnknownCreatureError,
+    energy_bound,
+    format_table,
+    get,
+    names,
+    register,
+)
+
+RHO = 1000.0
+
+
+def test_library_lists_the_paper_creatures():
+    assert {"eel2d", "fish"} <= set(names())
+    assert names() == sorted(names())
+
+
+def test_unknown_creature_lists_the_known_ones():
+    with pytest.raises(
+        UnknownCreatureError, match="unknown creature 'shark'; known creatures: eel2d"
+    ):
+        get("shark")
+
+
+def test_register_adds_a_creature_and_refuses_to_overwrite_by_accident():
+    eel = get("eel2d")
+    register("eel_copy", lambda: dataclasses.replace(eel, name="eel_copy"))
+    try:
+        assert get("eel_copy").name == "eel_copy" and "eel_copy" in names()
+        assert get("eel_copy") is get("eel_copy")  # built once
+        with pytest.raises(ValueError, match="already registered; pass replace=True"):
+            register("eel_copy", eel)
+        register("eel_copy", eel, replace=True)
+        assert get("eel_copy") is eel
+    finally:
+        from aquagait.creatures import registry
+
+        registry._FACTORIES.pop("eel_copy"), registry._BUILT.pop("eel_copy", None)
+
+
+@pytest.mark.parametrize(
+    "name, dim, dofs, params, resolution",
+    [("eel2d", 2, 4, 8, (128, 64)), ("fish", 3, 3, 6, (64, 32, 32))],
+)
+def test_creatures_match_table_1_of_the_paper(name, dim, dofs, params, resolution):
+    creature = get(name)
+    assert creature.dim == dim
+    assert len(creature.model.actuated_dofs) == dofs
+    assert creature.gait.size == params
+    assert creature.resolution == resolution
+    assert creature.gait.period == 1.0 and creature.gait.offset == 0.0
+    assert creature.gait.free == ("amplitude", "phase")
+
+
+def test_eel_is_a_half_metre_prism_of_water():
+    """Mass = rho * depth * outline area; the outline: a quarter-ellipse snout 6 cm long,
+    3.5 cm wide to 0.2 m, then tapering linearly to 6 mm at 0.5 m."""
+    eel = get("eel2d").model
+    half_area = np.pi / 4 * 0.06 * 0.0175 + 0.14 * 0.0175 + 0.3 * (0.0175 + 0.003) / 2
+    assert eel.body_length == pytest.approx(0.5, rel=1e-6)
+    assert eel.mass == pytest.approx(RHO * 0.04 * 2 * half_area, rel=5e-3)  # polygonal snout
+
+
+def test_fish_is_clownfish_sized_and_tail_light():
+    fish = get("fish").model
+    assert fish.body_length == pytest.approx(0.10, rel=1e-6)
+    assert fish.extent[2] == pytest.approx(0.045, rel=0.01)  # 4.5 cm deep body
+    assert 0.02 < fish.mass < 0.05  # tens of grams, like the animal
+    # the caudal fin: a trapezoid 2 cm long, 1.3 -> 3.4 cm high, 5 mm thick, of water
+    caudal = fish.link_mass[fish.links.index("caudal")]
+    assert caudal == pytest.approx(RHO * 0.02 * (0.013 + 0.034) / 2 * 0.005, rel=1e-5)
+    assert np.all(np.diff(fish.link_mass) < 0)  # mass falls towards the tail
+
+
+@pytest.mark.parametrize("name", ["eel2d", "fish"])
+def test_defaults_are_admissible(name):
+    creature = get(name)
+    x = creature.default_gait
+    assert np.all(x >= creature.gait.lower) and np.all(x <= creature.gait.upper)
+    assert creature.gait.limit_violations(x, *creature.gait_limits()) == []
+    span = np.asarray(creature.resolution) * creature.cell_size
+    assert span[0] >= 2.5 * creature.model.body_length  # a few body lengths to swim in
+    assert creature.energy_bound == pytest.approx(energy_bound(creature.model))
+    assert isinstance(creature.policy(), ag.control.StablePD)
+
+
+def test_energy_bound_scales_with_mass():
+    eel = get("eel2d").model
+    heavier = dataclasses.replace(eel, mass=2 * eel.mass)
+    assert energy_bound(heavier) == pytest.approx(2 * energy_bound(eel))
+    assert energy_bound(eel) == pytest.approx(5 * eel.mass * eel.body_length**2)
+
+
+@pytest.mark.parametrize("name", ["eel2d", "fish"])
+def test_default_gait_runs_in_vacuum_within_the_energy_bound(name):
+    creature = get(name)
+    scene = ag.make_scene(creature)
+    traj = ag.rollout(scene, ag.init_state(scene), creature.policy(), 2.0)
+    assert np.all(np.isfinite(traj.qpos))
+    assert 0 < traj.energy[-1].sum() < creature.energy_bound  # the fluid only adds to it
+    swing = np.ptp(traj.qpos[30:, -len(creature.gait.dofs) :], axis=0)
+    assert swing[-1] > swing[0]  # the tail moves most
+
+
+@pytest.mark.parametrize("name", ["eel2d", "fish"])
+def test_module_docstring_tables_every_link_and_dof(name):
+    creature = get(name)
+    doc = importlib.import_module(f"aquagait.creatures.{name}").__doc__
+    for word in (*creature.model.links, *creature.gait.dofs, "amplitude", "phase", "Energy bound"):
+        assert word in doc, f"{name}'s docstring does not mention {word!r}"
+    assert "x".join(map(str, creature.resolution)).replace("x", " x ") in doc
+
+
+def test_bad_creatures_are_refused():
+    eel = get("eel2d")
+    with pytest.raises(ValueError, match="outside its bounds"):
+        dataclasses.replace(eel, default_gait=eel.default_gait + 5)
+    with pytest.raises(ValueError, match="too small for a body"):
+        dataclasses.replace(eel, resolution=(32, 16))
+    with pytest.raises(ValueError, match="is not 2D"):
+        dataclasses.replace(eel, resolution=(128, 64, 64))
+
+
+def test_format_table_and_the_cli_list_the_library(capsys):
+    lines = format_table().splitlines()
+    assert lines[0].split() == ["name", "dim", "DOFs", "optimized", "parameters", "default",
+                                "grid", "cell", "size"]  # fmt: skip
+    assert lines[1].split() == ["eel2d", "2D", "4", "8", "128x64", "10", "mm"]
+    assert lines[2].split() == ["fish", "3D", "3", "6", "64x32x32", "5", "mm"]
+    assert cli.main(["creatures"]) == 0
+    assert capsys.readouterr().out.strip() == format_table()
