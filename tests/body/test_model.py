@@ -119,18 +119,6 @@ def test_unknown_joint_and_dof_list_the_known_ones(snake):
         snake.dof("elbow")
 
 
-def test_density_through_default_classes_and_childclass():
-    xml = """<mujoco>
-      <default><geom density="500"/>
-        <default class="dense"><geom density="2000"/></default></default>
-      <worldbody><body name="a"><freejoint/><geom type="box" size=".1 .1 .1"/>
-        <body name="b" childclass="dense" pos=".3 0 0">
-          <joint type="hinge" axis="0 0 1" range="-10 10"/><geom type="box" size=".1 .1 .1"/>
-        </body></body></worldbody></mujoco>"""
-    model = load_model(xml)
-    np.testing.assert_allclose(model.link_mass, [500 * 0.008, 2000 * 0.008])
-
-
 def test_path_and_string_give_the_same_model_and_models_pickle():
     path = CREATURES / "fish.xml"
     from_path, from_text = load_model(path), load_model(path.read_text())

@@ -4,6 +4,7 @@ Never imports the fluid (DESIGN.md §3); only ``dynamics`` imports MuJoCo.
 """
 
 from aquagait.body.dynamics import Dynamics
-from aquagait.body.model import Joint, Model, ModelError, load_model
+from aquagait.body.mjcf import ModelError
+from aquagait.body.model import Joint, Model, load_model
 
 __all__ = ["Dynamics", "Joint", "Model", "ModelError", "load_model"]
