@@ -45,6 +45,8 @@ def test_scene_grid_defaults_to_the_creature_and_is_centred_on_it(creature):
     com = scene.dynamics.center_of_mass(creature.model.qpos0)[: creature.dim]
     np.testing.assert_allclose(centre, com, atol=1e-12)
     assert ag.make_scene(creature.model).grid is None  # a bare model has no default grid
+    placed = ag.make_scene(creature.model, (16,) * creature.dim, 0.1, origin=(1,) * creature.dim)
+    assert placed.grid.origin == (1.0,) * creature.dim
 
 
 def test_scene_arguments_are_checked(creature):

@@ -110,7 +110,9 @@ class Trajectory:
     fps: float
 
 
-def make_scene(creature_or_model, resolution=None, cell_size=None, fluid: str = "none") -> Scene:
+def make_scene(
+    creature_or_model, resolution=None, cell_size=None, fluid: str = "none", origin=None
+) -> Scene:
     """Build a scene for a creature (or a bare model).
 
     Args:
@@ -121,9 +123,11 @@ def make_scene(creature_or_model, resolution=None, cell_size=None, fluid: str = 
             default: the creature's.
         cell_size: h [m]; default: the creature's.
         fluid: 'none' (vacuum). 'euler' and 'simple' are planned.
+        origin: the grid's lower corner [m], one entry per axis; default: the
+            grid is centred on the creature's centre of mass.
 
     Returns:
-        The scene; its grid (if any) is centred on the creature's centre of mass.
+        The scene; its grid is None when no resolution and cell size are known.
     """
     model, default_res, default_h = _unpack_creature(creature_or_model)
     if fluid in FLUIDS_LATER:
@@ -142,8 +146,9 @@ def make_scene(creature_or_model, resolution=None, cell_size=None, fluid: str = 
                 f"resolution {resolution} has {len(resolution)} entries but {model.source} is "
                 f"{model.dim}D: give (nx, ny{', nz' if model.dim == 3 else ''})"
             )
-        centre = dynamics.center_of_mass(model.qpos0)[: model.dim]
-        origin = centre - np.asarray(resolution) * cell_size / 2
+        if origin is None:
+            centre = dynamics.center_of_mass(model.qpos0)[: model.dim]
+            origin = centre - np.asarray(resolution) * cell_size / 2
         grid = Grid(shape=resolution, cell_size=cell_size, origin=tuple(origin))
     return Scene(model=model, dynamics=dynamics, fluid=fluid, grid=grid)
 
@@ -200,13 +205,13 @@ def step(scene: Scene, state: State, dt: float, policy=None) -> State:
         The state at t + dt.
     """
     _check_dt(dt)
-    tau, damping = servo_forces(scene, state, dt, policy)
-    qdd = predict_body(scene, state, dt, tau, damping)
+    tau, damping = servo_forces(scene, state, dt, policy)  # the stable PD: at t + dt
+    qdd = predict_body(scene, state, dt, tau, damping)  # (M + dt Kd) qdd = tau - c
+    # (later: voxelize, advect, coupled pressure solve correct qvel here)
     qvel = state.qvel + dt * qdd
-    applied = tau - dt * damping * qdd
     qpos = scene.dynamics.integrate(state.qpos, qvel, dt)
-    energy = state.energy + dt * np.abs(applied * qvel)
-    new = replace(state, time=state.time + dt, qpos=qpos, qvel=qvel, torque=applied, energy=energy)
+    torque, energy = account_work(state, dt, tau, damping, qdd, qvel)
+    new = replace(state, time=state.time + dt, qpos=qpos, qvel=qvel, torque=torque, energy=energy)
     return _check_finite(scene, new)
 
 
@@ -251,6 +256,17 @@ def predict_body(scene: Scene, state: State, dt: float, tau, damping) -> np.ndar
             "gains too stiff for dt?"
         )
     return qdd
+
+
+def account_work(state: State, dt: float, tau, damping, qdd, qvel):
+    """The force applied over the step and the energy so far, each (nv,).
+
+    The implicit damping adds ``-dt Kd qdd`` to the policy's force; the work
+    is counted as ``|tau_i qd_i| dt`` with the velocity that moves the
+    positions, so spending and braking both cost (DESIGN.md §2.4, E_energy).
+    """
+    applied = tau - dt * damping * qdd
+    return applied, state.energy + dt * np.abs(applied * qvel)
 
 
 def rollout(
