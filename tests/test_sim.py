@@ -158,7 +158,7 @@ def test_free_rigid_body_keeps_energy_and_angular_momentum_to_first_order():
         return abs(kinetic(state) / e0 - 1), np.linalg.norm(l1 - l0) / np.linalg.norm(l0)
 
     coarse, fine = np.array(drift(0.002)), np.array(drift(0.001))
-    np.testing.assert_array_less(fine, 0.01)
+    np.testing.assert_array_less(fine, 1e-3)  # measured at dt = 1 ms: energy 6e-6, L 1e-4
     np.testing.assert_allclose(coarse / fine, 2.0, rtol=0.2)
 
 
