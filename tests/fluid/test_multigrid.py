@@ -15,7 +15,7 @@ def hierarchy_for(shape):
 
 def apply_vcycle(h, r):
     z = np.zeros_like(r)
-    vcycle(r, z, h.diag, h.shapes, h.offsets, np.zeros((3, h.offsets[-1])), h.three_d)
+    vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, np.zeros((3, h.offsets[-1])), h.three_d)
     return z
 
 

@@ -4,16 +4,8 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
-from aquagait.fluid.pcg import (
-    LowRank,
-    SolverError,
-    apply_operator,
-    jacobi,
-    mic0,
-    pcg,
-    pressure_system,
-    sparse_matrix,
-)
+from aquagait.fluid.pcg import LowRank, SolverError, pcg, pressure_system, sparse_matrix
+from aquagait.fluid.preconditioners import jacobi, mic0
 from aquagait.grid import Grid
 
 
@@ -68,18 +60,10 @@ def test_low_rank_rows_must_sit_on_fluid_cells():
 
 @pytest.mark.parametrize("shape", [(16, 8), (8, 6, 4)])
 def test_operator_is_symmetric_positive_definite(shape):
-    from aquagait.fluid.cells import pad
-
-    system = obstacle_system(shape)
-    rng = np.random.default_rng(2)
-    diag = system.hierarchy.level_diag(0)
-    xs = [pad(np.where(system.solid, 0.0, rng.standard_normal(shape))) for _ in range(2)]
-    outs = [np.zeros_like(xs[0]) for _ in range(2)]
-    empty = np.zeros(0, np.int64), np.zeros((0, 0)), np.zeros((0, 0))
-    for x, out in zip(xs, outs, strict=True):
-        apply_operator(x, diag, len(shape) == 3, *empty, out)
-    assert np.vdot(xs[0], outs[1]) == pytest.approx(np.vdot(xs[1], outs[0]), rel=1e-12)
-    assert np.vdot(xs[0], outs[0]) > 0
+    """Checked on the sparse assembly, which the solve matches (test above)."""
+    A, _ = sparse_matrix(obstacle_system(shape))
+    assert abs(A - A.T).max() == 0.0
+    assert np.linalg.eigvalsh(A.toarray()).min() > 0
 
 
 @pytest.mark.parametrize(

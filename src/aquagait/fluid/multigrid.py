@@ -18,6 +18,7 @@ of ``cells.py``.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numba
@@ -40,12 +41,15 @@ class Hierarchy:
         shapes: ``(levels, 3)`` padded array shape of each level, finest first.
         offsets: ``(levels + 1,)`` start of each level in the flat buffers.
         diag: flat, the Laplacian's diagonal per level (0 at solid and ghost cells).
+        inverse: flat, ``1 / diag`` where ``diag`` is nonzero, else 0 (smoothing
+            multiplies: a division costs more than the rest of a cell's update).
         three_d: whether z is a real axis (False: the 2D layout, one z layer).
     """
 
     shapes: np.ndarray
     offsets: np.ndarray
     diag: np.ndarray
+    inverse: np.ndarray
     three_d: bool
 
     @property
@@ -78,7 +82,9 @@ def build_hierarchy(solid: np.ndarray) -> Hierarchy:
         level_diag = diag[offsets[level] : offsets[level + 1]].reshape(shapes[level])
         _fill_diag(mask.reshape(mask.shape + (1,) * (3 - mask.ndim)), level_diag, three_d)
         _place_open_boundary(level_diag, solid.shape, level)
-    return Hierarchy(shapes, offsets, diag, three_d)
+    inverse = np.zeros_like(diag)
+    np.divide(1.0, diag, out=inverse, where=diag != 0)
+    return Hierarchy(shapes, offsets, diag, inverse, three_d)
 
 
 def _place_open_boundary(diag: np.ndarray, fine_shape: tuple[int, ...], level: int) -> None:
@@ -153,25 +159,23 @@ def laplacian(x, diag, out, three_d):
 
 
 @numba.njit(cache=True)
-def _smooth(x, b, diag, color, three_d):
-    """One red (color 0) or black (color 1) Gauss-Seidel half sweep, in place."""
+def _smooth(x, b, inverse, color, three_d):
+    """One red (color 0) or black (color 1) Gauss-Seidel half sweep, in place.
+
+    Solid and ghost cells have ``inverse == 0`` and stay at zero without a branch.
+    """
     nx, ny, nz = x.shape
     k0, k1 = (1, nz - 1) if three_d else (0, 1)
     for i in range(1, nx - 1):
         for j in range(1, ny - 1):
             if three_d:
-                start = k0 + ((i + j + k0 + color) & 1)
-                for k in range(start, k1, 2):
-                    d = diag[i, j, k]
-                    if d != 0.0:
-                        s = x[i - 1, j, k] + x[i + 1, j, k] + x[i, j - 1, k] + x[i, j + 1, k]
-                        s += x[i, j, k - 1] + x[i, j, k + 1]
-                        x[i, j, k] = (b[i, j, k] + s) / d
+                for k in range(k0 + ((i + j + k0 + color) & 1), k1, 2):
+                    s = x[i - 1, j, k] + x[i + 1, j, k] + x[i, j - 1, k] + x[i, j + 1, k]
+                    s += x[i, j, k - 1] + x[i, j, k + 1]
+                    x[i, j, k] = (b[i, j, k] + s) * inverse[i, j, k]
             elif (i + j + color) & 1 == 0:
-                d = diag[i, j, 0]
-                if d != 0.0:
-                    s = x[i - 1, j, 0] + x[i + 1, j, 0] + x[i, j - 1, 0] + x[i, j + 1, 0]
-                    x[i, j, 0] = (b[i, j, 0] + s) / d
+                s = x[i - 1, j, 0] + x[i + 1, j, 0] + x[i, j - 1, 0] + x[i, j + 1, 0]
+                x[i, j, 0] = (b[i, j, 0] + s) * inverse[i, j, 0]
 
 
 @numba.njit(cache=True)
@@ -185,44 +189,47 @@ def _residual(x, b, diag, r, three_d):
 
 
 @numba.njit(cache=True)
-def _weights(fine, coarse):
-    """Linear-interpolation weight of coarse cell ``coarse`` at fine cell ``fine`` (0-based)."""
-    parent = fine // 2
-    if coarse == parent:
-        return 0.75
-    other = parent - 1 if fine % 2 == 0 else parent + 1
-    return 0.25 if coarse == other else 0.0
-
-
-@numba.njit(cache=True)
 def _restrict(r, diag_c, b_c, three_d):
-    """``b_c = (4 / 2^dim) P^T r`` on non-solid coarse cells."""
+    """``b_c = (4 / 2^dim) P^T r`` on non-solid coarse cells.
+
+    Scattered from the fine cells: each sends 3/4 per axis to its parent and
+    1/4 to the parent's neighbour on its own side, the transpose of ``_prolong_add``.
+    """
     fx, fy, fz = r.shape
-    cx, cy, cz = b_c.shape
-    scale = 0.5 if three_d else 1.0
-    kz = 1 if three_d else 0
-    for I in range(1, cx - 1):
-        for J in range(1, cy - 1):
-            for K in range(kz, cz - kz):
-                if diag_c[I, J, K] == 0.0:
-                    b_c[I, J, K] = 0.0
+    k0, k1 = (1, fz - 1) if three_d else (0, 1)
+    b_c[:] = 0.0
+    for i in range(1, fx - 1):
+        I = (i - 1) // 2 + 1
+        I2 = I - 1 if (i - 1) % 2 == 0 else I + 1
+        for j in range(1, fy - 1):
+            J = (j - 1) // 2 + 1
+            J2 = J - 1 if (j - 1) % 2 == 0 else J + 1
+            for k in range(k0, k1):
+                v = r[i, j, k]
+                if v == 0.0:
                     continue
-                total = 0.0
-                for i in range(2 * I - 2, 2 * I + 2):  # padded fine index of 2(I-1)-1 .. 2(I-1)+2
-                    if i < 1 or i > fx - 2:
-                        continue
-                    wi = _weights(i - 1, I - 1)
-                    for j in range(2 * J - 2, 2 * J + 2):
-                        if j < 1 or j > fy - 2:
-                            continue
-                        wij = wi * _weights(j - 1, J - 1)
-                        if three_d:
-                            for k in range(2 * K - 2, 2 * K + 2):
-                                if 1 <= k <= fz - 2:
-                                    total += wij * _weights(k - 1, K - 1) * r[i, j, k]
-                        else:
-                            total += wij * r[i, j, 0]
-                b_c[I, J, K] = scale * total
+                if three_d:
+                    K = (k - 1) // 2 + 1
+                    K2 = K - 1 if (k - 1) % 2 == 0 else K + 1
+                    near, far = 0.375 * v, 0.125 * v  # the 3D scale 1/2 folded in
+                    b_c[I, J, K] += 0.5625 * near
+                    b_c[I, J2, K] += 0.1875 * near
+                    b_c[I2, J, K] += 0.1875 * near
+                    b_c[I2, J2, K] += 0.0625 * near
+                    b_c[I, J, K2] += 0.5625 * far
+                    b_c[I, J2, K2] += 0.1875 * far
+                    b_c[I2, J, K2] += 0.1875 * far
+                    b_c[I2, J2, K2] += 0.0625 * far
+                else:
+                    b_c[I, J, 0] += 0.5625 * v
+                    b_c[I, J2, 0] += 0.1875 * v
+                    b_c[I2, J, 0] += 0.1875 * v
+                    b_c[I2, J2, 0] += 0.0625 * v
+    for i in range(b_c.shape[0]):  # ghosts and solid cells carry no equation
+        for j in range(b_c.shape[1]):
+            for k in range(b_c.shape[2]):
+                if diag_c[i, j, k] == 0.0:
+                    b_c[i, j, k] = 0.0
 
 
 @numba.njit(cache=True)
@@ -262,13 +269,13 @@ def _level(buffer, shapes, offsets, level):
 
 
 @numba.njit(cache=True)
-def vcycle(r, z, diag, shapes, offsets, work, three_d):
+def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d):
     """``z = V r``: one symmetric multigrid V-cycle, the preconditioner of ``pcg``.
 
     Args:
         r: padded residual of the finest level.
         z: padded output, same shape.
-        diag, shapes, offsets: the ``Hierarchy`` arrays.
+        diag, inverse, shapes, offsets: the ``Hierarchy`` arrays.
         work: ``(3, offsets[-1])`` scratch: per-level solution, right side, residual.
         three_d: whether z is a real axis.
     """
@@ -279,15 +286,16 @@ def vcycle(r, z, diag, shapes, offsets, work, three_d):
         x = _level(xs, shapes, offsets, level)
         b = _level(bs, shapes, offsets, level)
         d = _level(diag, shapes, offsets, level)
+        inv = _level(inverse, shapes, offsets, level)
         x[:] = 0.0
         sweeps = PRE_SMOOTH if level < levels - 1 else COARSEST_SWEEPS
         for _ in range(sweeps):
-            _smooth(x, b, d, 0, three_d)
-            _smooth(x, b, d, 1, three_d)
+            _smooth(x, b, inv, 0, three_d)
+            _smooth(x, b, inv, 1, three_d)
         if level == levels - 1:
             for _ in range(sweeps):  # the adjoint sweeps keep the coarse solve symmetric
-                _smooth(x, b, d, 1, three_d)
-                _smooth(x, b, d, 0, three_d)
+                _smooth(x, b, inv, 1, three_d)
+                _smooth(x, b, inv, 0, three_d)
             break
         res = _level(rs, shapes, offsets, level)
         _residual(x, b, d, res, three_d)
@@ -300,9 +308,22 @@ def vcycle(r, z, diag, shapes, offsets, work, three_d):
     for level in range(levels - 2, -1, -1):
         x = _level(xs, shapes, offsets, level)
         b = _level(bs, shapes, offsets, level)
-        d = _level(diag, shapes, offsets, level)
-        _prolong_add(_level(xs, shapes, offsets, level + 1), x, d, three_d)
+        inv = _level(inverse, shapes, offsets, level)
+        _prolong_add(_level(xs, shapes, offsets, level + 1), x, inv, three_d)
         for _ in range(PRE_SMOOTH):
-            _smooth(x, b, d, 1, three_d)
-            _smooth(x, b, d, 0, three_d)
+            _smooth(x, b, inv, 1, three_d)
+            _smooth(x, b, inv, 0, three_d)
     z[:] = _level(xs, shapes, offsets, 0)
+
+
+def preconditioner(system):
+    """``apply(r, z)``: one V-cycle over ``system.hierarchy``, the default for ``pcg``."""
+    h = system.hierarchy
+    work = _work(int(h.offsets[-1]))
+    return lambda r, z: vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, work, h.three_d)
+
+
+@functools.lru_cache(maxsize=4)
+def _work(size: int) -> np.ndarray:
+    """Per-level scratch, reused between solves (fresh pages cost more than a cycle)."""
+    return np.zeros((3, size))

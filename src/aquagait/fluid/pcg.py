@@ -7,8 +7,11 @@ optional symmetric positive semi-definite low-rank term. The fluid alone uses
 rows are the coupled cells, without touching this solver. The preconditioner
 acts on ``L`` alone; the rank-``k`` term costs at most ``k`` extra iterations.
 
-The whole iteration is one Numba call: the preconditioner is a Numba function
-passed in (``vcycle`` by default, ``jacobi`` for comparison), STYLE.md §5.
+The iteration is a short Python loop over Numba kernels (a few microseconds
+of overhead per iteration). The preconditioner is a function passed in
+(STYLE.md §5): ``precondition(system) -> apply(r, z)``, built once per solve;
+``multigrid.preconditioner`` by default, ``preconditioners.mic0`` and
+``preconditioners.jacobi`` for comparison.
 
 Convergence is tested in the max norm, ``max |b - A p| <= atol``: after a
 projection this bounds every cell's divergence, not only their average.
@@ -22,8 +25,9 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from aquagait.fluid import multigrid
 from aquagait.fluid.cells import interior, padded_shape, seal_pockets
-from aquagait.fluid.multigrid import Hierarchy, build_hierarchy, laplacian, vcycle
+from aquagait.fluid.multigrid import Hierarchy, build_hierarchy, laplacian
 
 DEFAULT_MAX_ITERATIONS = 200
 
@@ -117,7 +121,7 @@ def pcg(
     atol: float,
     x0: np.ndarray | None = None,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-    precondition=vcycle,
+    precondition=multigrid.preconditioner,
 ) -> SolveResult:
     """Solve ``A x = b`` by preconditioned conjugate gradients.
 
@@ -127,7 +131,8 @@ def pcg(
         atol: stop when ``max |b - A x| <= atol``.
         x0: warm start (e.g. the last step's pressure), or None for zero.
         max_iterations: give up (``SolverError``) after this many iterations.
-        precondition: a Numba preconditioner with the signature of ``vcycle``.
+        precondition: ``precondition(system) -> apply(r, z)``, where ``apply``
+            writes an approximation of ``L^-1 r`` into ``z`` (padded layout).
     Returns:
         the solution, iterations and final residual.
     """
@@ -136,16 +141,16 @@ def pcg(
     if x0 is not None and np.shape(x0) != system.shape:
         raise ValueError(f"warm start has shape {np.shape(x0)}, expected {system.shape}")
     dim = len(system.shape)
-    hier = system.hierarchy
-    x, rhs, scratch, work = _workspace(padded_shape(system.shape), int(hier.offsets[-1]))
-    interior(rhs, dim)[...] = np.where(system.solid, 0.0, b)
+    x, r, z, d, ad = _workspace(padded_shape(system.shape))
     interior(x, dim)[...] = 0.0 if x0 is None else np.where(system.solid, 0.0, x0)
-    cells, rows, core = _low_rank_arrays(system, x.shape)
-    iterations, residual = _pcg(
-        x, rhs, hier.level_diag(0), hier.three_d, cells, rows, core,
-        precondition, hier.diag, hier.shapes, hier.offsets, work, scratch,
-        float(atol), int(max_iterations),
-    )  # fmt: skip
+    apply = _operator(system)
+    apply(x, ad)
+    interior(r, dim)[...] = np.where(system.solid, 0.0, b) - interior(ad, dim)
+    residual = float(np.abs(r).max())
+    iterations = 0
+    if residual > atol:
+        iterations, residual = _iterate(apply, precondition(system), x, r, z, d, ad,
+                                        float(atol), max_iterations)  # fmt: skip
     if residual > atol:
         raise SolverError(
             f"pressure solve stopped at residual {residual:.3g} > tolerance {atol:.3g} "
@@ -155,16 +160,48 @@ def pcg(
     return SolveResult(interior(x, dim).copy(), iterations, residual)
 
 
+def _iterate(apply, precondition, x, r, z, d, ad, atol, max_iterations):
+    """The conjugate-gradient loop; ``r`` holds the initial residual."""
+    precondition(r, z)
+    d[...] = z
+    rz = _dot(r, z)
+    residual = np.inf
+    for iteration in range(1, max_iterations + 1):
+        apply(d, ad)
+        alpha = rz / _dot(d, ad)
+        residual = _step_(x, r, d, ad, alpha)
+        if residual <= atol:
+            return iteration, residual
+        precondition(r, z)
+        rz, rz_old = _dot(r, z), rz
+        _new_direction_(d, z, rz / rz_old)
+    return max_iterations, residual
+
+
+def _operator(system: PressureSystem):
+    """``apply(x, out)``: ``out = (L + U C U^T) x`` in the padded layout."""
+    diag = system.hierarchy.level_diag(0)
+    three_d = system.hierarchy.three_d
+    if system.low_rank is None:
+        return lambda x, out: laplacian(x, diag, out, three_d)
+    cells, rows, core = _low_rank_arrays(system, diag.shape)
+
+    def apply(x, out):
+        laplacian(x, diag, out, three_d)
+        _add_low_rank_(x, cells, rows, core, out)
+
+    return apply
+
+
 @functools.lru_cache(maxsize=4)
-def _workspace(padded: tuple[int, int, int], levels_size: int):
-    """Scratch arrays of a solve, kept between calls.
+def _workspace(padded: tuple[int, int, int]):
+    """The five vectors of a solve, kept between calls.
 
     Fresh multi-megabyte arrays cost page faults on first touch, more than a
     whole V-cycle on a 64x32x32 grid; reusing them keeps the solve's cost in
-    the arithmetic. Ghost entries stay zero: the kernels never write them.
+    the arithmetic. Ghost entries stay zero: no kernel writes them.
     """
-    x = np.zeros(padded)
-    return x, np.zeros(padded), np.zeros((4,) + padded), np.zeros((3, levels_size))
+    return tuple(np.zeros(padded) for _ in range(5))
 
 
 def _low_rank_arrays(system: PressureSystem, padded: tuple[int, int, int]):
@@ -179,101 +216,10 @@ def _low_rank_arrays(system: PressureSystem, padded: tuple[int, int, int]):
 
 
 @numba.njit(cache=True)
-def jacobi(r, z, diag, shapes, offsets, work, three_d):
-    """``z = r / diag``: the diagonal preconditioner, for comparison with ``vcycle``."""
-    d0 = diag[offsets[0] : offsets[1]].reshape((shapes[0, 0], shapes[0, 1], shapes[0, 2]))
-    z[:] = 0.0
-    nx, ny, nz = r.shape
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if d0[i, j, k] != 0.0:
-                    z[i, j, k] = r[i, j, k] / d0[i, j, k]
-
-
-MIC_TAU = 0.97
-"""Weight of the modified (dropped fill-in) part of MIC(0) (Bridson 2015)."""
-
-MIC_SIGMA = 0.25
-"""Safety: a pivot below this fraction of the diagonal falls back to the diagonal."""
-
-
-@numba.njit(cache=True)
-def mic0(r, z, diag, shapes, offsets, work, three_d):
-    """``z = (L_ic L_ic^T)^-1 r``: modified incomplete Cholesky, for comparison with ``vcycle``.
-
-    The factor is rebuilt from the finest diagonal on every call (one extra
-    sweep), so this has the same signature as the other preconditioners.
-    """
-    d = diag[offsets[0] : offsets[1]].reshape((shapes[0, 0], shapes[0, 1], shapes[0, 2]))
-    pre = work[0, : d.size].reshape(d.shape)
-    q = work[1, : d.size].reshape(d.shape)
-    pre[:] = 0.0
-    q[:] = 0.0
-    nx, ny, nz = d.shape
-    k0, k1 = (1, nz - 1) if three_d else (0, 1)
-    for i in range(1, nx - 1):
-        for j in range(1, ny - 1):
-            for k in range(k0, k1):
-                if d[i, j, k] == 0.0:
-                    continue
-                e = d[i, j, k]
-                # neighbours before this cell: coupling -1 when both are fluid
-                ax = 1.0 if d[i - 1, j, k] != 0.0 else 0.0
-                ay = 1.0 if d[i, j - 1, k] != 0.0 else 0.0
-                az = 1.0 if (three_d and d[i, j, k - 1] != 0.0) else 0.0
-                px, py, pz = pre[i - 1, j, k], pre[i, j - 1, k], pre[i, j, k - 1]
-                e -= (ax * px) ** 2 + (ay * py) ** 2 + (az * pz) ** 2
-                fill = ax * _couplings(d, i - 1, j, k, 0, three_d) * px * px
-                fill += ay * _couplings(d, i, j - 1, k, 1, three_d) * py * py
-                fill += az * _couplings(d, i, j, k - 1, 2, three_d) * pz * pz
-                e -= MIC_TAU * fill
-                if e < MIC_SIGMA * d[i, j, k]:
-                    e = d[i, j, k]
-                pre[i, j, k] = 1.0 / np.sqrt(e)
-                t = r[i, j, k] + ax * px * q[i - 1, j, k] + ay * py * q[i, j - 1, k]
-                t += az * pz * q[i, j, k - 1]
-                q[i, j, k] = t * pre[i, j, k]
-    z[:] = 0.0
-    for i in range(nx - 2, 0, -1):
-        for j in range(ny - 2, 0, -1):
-            for k in range(k1 - 1, k0 - 1, -1):
-                p = pre[i, j, k]
-                if p == 0.0:
-                    continue
-                t = q[i, j, k]
-                if d[i + 1, j, k] != 0.0:
-                    t += p * z[i + 1, j, k]
-                if d[i, j + 1, k] != 0.0:
-                    t += p * z[i, j + 1, k]
-                if three_d and d[i, j, k + 1] != 0.0:
-                    t += p * z[i, j, k + 1]
-                z[i, j, k] = t * p
-
-
-@numba.njit(cache=True)
-def _couplings(d, i, j, k, axis, three_d):
-    """Sum of the forward couplings of cell (i, j, k) along the axes other than ``axis``."""
-    total = 0.0
-    if axis != 0 and d[i + 1, j, k] != 0.0:
-        total += 1.0
-    if axis != 1 and d[i, j + 1, k] != 0.0:
-        total += 1.0
-    if three_d and axis != 2 and d[i, j, k + 1] != 0.0:
-        total += 1.0
-    return total
-
-
-@numba.njit(cache=True)
-def apply_operator(x, diag, three_d, cells, rows, core, out):
-    """``out = (L + U C U^T) x`` in the padded layout."""
-    laplacian(x, diag, out, three_d)
-    if cells.shape[0] == 0:
-        return
-    flat_x = x.ravel()
-    flat_out = out.ravel()
-    k = rows.shape[1]
-    w = np.zeros(k)
+def _add_low_rank_(x, cells, rows, core, out):
+    """``out += U C U^T x`` with ``U`` given by its nonzero rows at flat ``cells``."""
+    flat_x, flat_out = x.ravel(), out.ravel()
+    w = np.zeros(rows.shape[1])
     for r in range(cells.shape[0]):
         w += rows[r] * flat_x[cells[r]]
     cw = core @ w
@@ -282,49 +228,32 @@ def apply_operator(x, diag, three_d, cells, rows, core, out):
 
 
 @numba.njit(cache=True)
-def _dot_max(a, b):
-    """Return ``(a . b, max |a|)`` over flat arrays."""
+def _dot(a, b):
     fa, fb = a.ravel(), b.ravel()
-    dot, big = 0.0, 0.0
+    total = 0.0
     for i in range(fa.size):
-        dot += fa[i] * fb[i]
-        big = max(big, abs(fa[i]))
-    return dot, big
+        total += fa[i] * fb[i]
+    return total
 
 
 @numba.njit(cache=True)
-def _pcg(x, b, diag, three_d, cells, rows, core, precondition, hdiag, shapes, offsets,
-         work, scratch, atol, max_iterations):  # fmt: skip
-    r, z, d, ad = scratch[0], scratch[1], scratch[2], scratch[3]
-    apply_operator(x, diag, three_d, cells, rows, core, ad)
-    fr, fad, fb, fdiag = r.ravel(), ad.ravel(), b.ravel(), diag.ravel()
-    for i in range(fr.size):
-        fr[i] = fb[i] - fad[i] if fdiag[i] != 0.0 else 0.0
-    residual = np.max(np.abs(fr))
-    if residual <= atol:
-        return 0, residual
-    precondition(r, z, hdiag, shapes, offsets, work, three_d)
-    d[:] = z
-    rz, _ = _dot_max(r, z)
-    fx, fd, fz = x.ravel(), d.ravel(), z.ravel()
-    for it in range(1, max_iterations + 1):
-        apply_operator(d, diag, three_d, cells, rows, core, ad)
-        dad, _ = _dot_max(d, ad)
-        alpha = rz / dad
-        residual = 0.0
-        for i in range(fr.size):
-            fx[i] += alpha * fd[i]
-            fr[i] -= alpha * fad[i]
-            residual = max(residual, abs(fr[i]))
-        if residual <= atol:
-            return it, residual
-        precondition(r, z, hdiag, shapes, offsets, work, three_d)
-        rz_new, _ = _dot_max(r, z)
-        beta = rz_new / rz
-        rz = rz_new
-        for i in range(fd.size):
-            fd[i] = fz[i] + beta * fd[i]
-    return max_iterations, residual
+def _step_(x, r, d, ad, alpha):
+    """``x += alpha d``, ``r -= alpha A d``; returns ``max |r|``."""
+    fx, fr, fd, fad = x.ravel(), r.ravel(), d.ravel(), ad.ravel()
+    residual = 0.0
+    for i in range(fx.size):
+        fx[i] += alpha * fd[i]
+        fr[i] -= alpha * fad[i]
+        residual = max(residual, abs(fr[i]))
+    return residual
+
+
+@numba.njit(cache=True)
+def _new_direction_(d, z, beta):
+    """``d = z + beta d``."""
+    fd, fz = d.ravel(), z.ravel()
+    for i in range(fd.size):
+        fd[i] = fz[i] + beta * fd[i]
 
 
 def sparse_matrix(system: PressureSystem):
