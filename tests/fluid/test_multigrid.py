@@ -15,7 +15,7 @@ def hierarchy_for(shape):
 
 def apply_vcycle(h, r):
     z = np.zeros_like(r)
-    vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, np.zeros((3, h.offsets[-1])), h.three_d)
+    vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, np.zeros((5, h.offsets[-1])), h.three_d)
     return z
 
 
@@ -26,7 +26,8 @@ def test_vcycle_is_symmetric_and_positive(shape):
     rng = np.random.default_rng(0)
     a, b = (np.where(fluid, rng.standard_normal(fluid.shape), 0.0) for _ in range(2))
     va, vb = apply_vcycle(h, a), apply_vcycle(h, b)
-    assert np.vdot(b, va) == pytest.approx(np.vdot(a, vb), rel=1e-10)
+    # the V-cycle runs in single precision: symmetric to float32 round-off
+    assert np.vdot(b, va) == pytest.approx(np.vdot(a, vb), rel=1e-5)
     assert np.vdot(a, va) > 0 and np.vdot(b, vb) > 0
 
 
@@ -48,10 +49,11 @@ def contraction_per_cycle(shape, solid=True, cycles=6):
 @pytest.mark.parametrize(
     "shapes, solid, bound",
     [
-        # open domain: measured 0.16 at both sizes (textbook V(2,2) is about 0.1)
+        # open domain, 2D red-black Gauss-Seidel: measured 0.15 and 0.16
         (((64, 64), (256, 256)), False, 0.25),
-        (((16, 16, 16), (48, 48, 48)), False, 0.25),
-        # with a staircase obstacle (Neumann walls coarsen less well): measured 0.36-0.41
+        # open domain, 3D damped Jacobi (cheaper, vectorized): measured 0.28 and 0.29
+        (((16, 16, 16), (48, 48, 48)), False, 0.35),
+        # with a staircase obstacle (Neumann walls coarsen less well): measured 0.35-0.43
         (((64, 32), (256, 128)), True, 0.5),
         (((32, 16, 16), (64, 32, 32)), True, 0.5),
     ],

@@ -9,11 +9,17 @@ The hierarchy halves every axis (x and y only in 2D) until an axis reaches two
 cells. A coarse cell is fluid when any of its children is; coarse ghosts are
 again Dirichlet ``p = 0``. Transfers are cell-centred linear interpolation
 ``P`` (weights 3/4 and 1/4 per axis) and its transpose ``R = (4 / 2^dim) P^T``,
-the factor matching the unscaled Laplacian (``L_2h ~ 4 L_h``). Smoothing is
-red-black Gauss-Seidel, red then black before the coarse correction and black
-then red after it, so the V-cycle is a symmetric positive-definite operator,
-as CG needs. All levels live in flat buffers (``offsets``) in the padded layout
-of ``cells.py``.
+the factor matching the unscaled Laplacian (``L_2h ~ 4 L_h``). Coarse levels
+place their open-boundary condition where the finest grid has it.
+
+Smoothing is red-black Gauss-Seidel in 2D (red then black before the coarse
+correction, black then red after) and damped Jacobi in 3D, whose sweeps read
+one array and write another and so vectorize: per second of work it smooths
+more than Gauss-Seidel there. Either way the V-cycle is a symmetric positive-
+definite operator, as CG needs. It runs in single precision (CG itself, the
+operator and the residual stay double): a preconditioner needs no more, and
+it halves the memory traffic. All levels live in flat buffers (``offsets``) in
+the padded layout of ``cells.py``.
 """
 
 from __future__ import annotations
@@ -26,8 +32,14 @@ import numpy as np
 
 from aquagait.fluid.cells import padded_shape
 
-PRE_SMOOTH = 2
-"""Red-black sweeps before (and after) each coarse-grid correction."""
+SMOOTHING_STEPS_2D = 2
+"""Red-black Gauss-Seidel steps before (and after) each coarse-grid correction in 2D."""
+
+SMOOTHING_STEPS_3D = 1
+"""Jacobi steps (two sweeps each) before (and after) each coarse-grid correction in 3D."""
+
+JACOBI_WEIGHT = 6.0 / 7.0
+"""Damping of Jacobi smoothing for the 7-point Laplacian (the optimal smoothing factor)."""
 
 COARSEST_SWEEPS = 16
 """Symmetric sweep pairs that stand in for an exact solve on the coarsest grid."""
@@ -40,7 +52,7 @@ class Hierarchy:
     Attributes:
         shapes: ``(levels, 3)`` padded array shape of each level, finest first.
         offsets: ``(levels + 1,)`` start of each level in the flat buffers.
-        diag: flat, the Laplacian's diagonal per level (0 at solid and ghost cells).
+        diag: flat float32, the Laplacian's diagonal per level (0 at solid and ghost cells).
         inverse: flat, ``1 / diag`` where ``diag`` is nonzero, else 0 (smoothing
             multiplies: a division costs more than the rest of a cell's update).
         three_d: whether z is a real axis (False: the 2D layout, one z layer).
@@ -77,13 +89,13 @@ def build_hierarchy(solid: np.ndarray) -> Hierarchy:
         masks.append(_coarsen(masks[-1]))
     shapes = np.array([padded_shape(m.shape) for m in masks], dtype=np.int64)
     offsets = np.concatenate([[0], np.cumsum(np.prod(shapes, axis=1))]).astype(np.int64)
-    diag = np.zeros(offsets[-1])
+    diag = np.zeros(offsets[-1], dtype=np.float32)
     for level, mask in enumerate(masks):
         level_diag = diag[offsets[level] : offsets[level + 1]].reshape(shapes[level])
         _fill_diag(mask.reshape(mask.shape + (1,) * (3 - mask.ndim)), level_diag, three_d)
         _place_open_boundary(level_diag, solid.shape, level)
     inverse = np.zeros_like(diag)
-    np.divide(1.0, diag, out=inverse, where=diag != 0)
+    np.divide(np.float32(1.0), diag, out=inverse, where=diag != 0)
     return Hierarchy(shapes, offsets, diag, inverse, three_d)
 
 
@@ -188,78 +200,130 @@ def _residual(x, b, diag, r, three_d):
                 r[i, j, k] = b[i, j, k] - r[i, j, k] if diag[i, j, k] != 0.0 else 0.0
 
 
-@numba.njit(cache=True)
-def _restrict(r, diag_c, b_c, three_d):
-    """``b_c = (4 / 2^dim) P^T r`` on non-solid coarse cells.
+# Transfers are separable: one pass per axis, each a 4-tap (restriction) or
+# 2-tap (prolongation) filter along that axis. Coarse padded cell I covers fine
+# padded cells 2I-1 and 2I; along an axis it gathers fine 2I-2 .. 2I+1 with
+# weights 1/4, 3/4, 3/4, 1/4. The passes run x, y, z when restricting and z, y,
+# x when prolonging, so the stride-2 pattern along the contiguous z axis falls
+# on the smallest array and the big passes vectorize. Fine ghosts hold zero.
 
-    Scattered from the fine cells: each sends 3/4 per axis to its parent and
-    1/4 to the parent's neighbour on its own side, the transpose of ``_prolong_add``.
-    """
+
+@numba.njit(cache=True)
+def _last_tap(f, n):
+    """The fourth tap of a restriction window starting at ``f``: (index, weight)."""
+    return (f + 3, 0.25) if f + 3 < n else (f + 2, 0.0)
+
+
+@numba.njit(cache=True)
+def _restrict(r, diag_c, b_c, t1, t2, three_d):
+    """``b_c = (4 / 2^dim) P^T r`` on non-solid coarse cells (``t1``, ``t2``: scratch)."""
     fx, fy, fz = r.shape
-    k0, k1 = (1, fz - 1) if three_d else (0, 1)
-    b_c[:] = 0.0
-    for i in range(1, fx - 1):
-        I = (i - 1) // 2 + 1
-        I2 = I - 1 if (i - 1) % 2 == 0 else I + 1
-        for j in range(1, fy - 1):
-            J = (j - 1) // 2 + 1
-            J2 = J - 1 if (j - 1) % 2 == 0 else J + 1
-            for k in range(k0, k1):
-                v = r[i, j, k]
-                if v == 0.0:
-                    continue
-                if three_d:
-                    K = (k - 1) // 2 + 1
-                    K2 = K - 1 if (k - 1) % 2 == 0 else K + 1
-                    near, far = 0.375 * v, 0.125 * v  # the 3D scale 1/2 folded in
-                    b_c[I, J, K] += 0.5625 * near
-                    b_c[I, J2, K] += 0.1875 * near
-                    b_c[I2, J, K] += 0.1875 * near
-                    b_c[I2, J2, K] += 0.0625 * near
-                    b_c[I, J, K2] += 0.5625 * far
-                    b_c[I, J2, K2] += 0.1875 * far
-                    b_c[I2, J, K2] += 0.1875 * far
-                    b_c[I2, J2, K2] += 0.0625 * far
-                else:
-                    b_c[I, J, 0] += 0.5625 * v
-                    b_c[I, J2, 0] += 0.1875 * v
-                    b_c[I2, J, 0] += 0.1875 * v
-                    b_c[I2, J2, 0] += 0.0625 * v
-    for i in range(b_c.shape[0]):  # ghosts and solid cells carry no equation
-        for j in range(b_c.shape[1]):
-            for k in range(b_c.shape[2]):
-                if diag_c[i, j, k] == 0.0:
-                    b_c[i, j, k] = 0.0
+    cx, cy, cz = b_c.shape
+    a = t1[: cx * fy * fz].reshape((cx, fy, fz))
+    for I in range(1, cx - 1):
+        i = 2 * I - 2
+        last, w = _last_tap(i, fx)
+        for j in range(fy):
+            for k in range(fz):
+                a[I, j, k] = (
+                    0.25 * r[i, j, k]
+                    + 0.75 * (r[i + 1, j, k] + r[i + 2, j, k])
+                    + (w * r[last, j, k])
+                )
+    c = t2[: cx * cy * fz].reshape((cx, cy, fz))
+    for I in range(1, cx - 1):
+        for J in range(1, cy - 1):
+            j = 2 * J - 2
+            last, w = _last_tap(j, fy)
+            for k in range(fz):
+                c[I, J, k] = (
+                    0.25 * a[I, j, k]
+                    + 0.75 * (a[I, j + 1, k] + a[I, j + 2, k])
+                    + (w * a[I, last, k])
+                )
+    scale = 0.5 if three_d else 1.0
+    for I in range(1, cx - 1):
+        for J in range(1, cy - 1):
+            if not three_d:
+                b_c[I, J, 0] = scale * c[I, J, 0] * (diag_c[I, J, 0] != 0.0)
+                continue
+            for K in range(1, cz - 1):
+                k = 2 * K - 2
+                last, w = _last_tap(k, fz)
+                v = 0.25 * c[I, J, k] + 0.75 * (c[I, J, k + 1] + c[I, J, k + 2]) + w * c[I, J, last]
+                b_c[I, J, K] = scale * v * (diag_c[I, J, K] != 0.0)
 
 
 @numba.njit(cache=True)
-def _prolong_add(x_c, x, diag, three_d):
-    """``x += P x_c`` on non-solid fine cells."""
+def _prolong_add(x_c, x, inverse, t1, t2, three_d):
+    """``x += P x_c`` on non-solid fine cells (``t1``, ``t2``: scratch).
+
+    Fine padded cell i takes 3/4 of its parent ``(i - 1) // 2 + 1`` and 1/4 of
+    the parent's neighbour on its side.
+    """
     fx, fy, fz = x.shape
+    cx, cy, cz = x_c.shape
     k0, k1 = (1, fz - 1) if three_d else (0, 1)
-    for i in range(1, fx - 1):
-        I = (i - 1) // 2 + 1
-        I2 = I - 1 if (i - 1) % 2 == 0 else I + 1
+    if three_d:
+        a = t1[: cx * cy * fz].reshape((cx, cy, fz))
+        for I in range(cx):
+            for J in range(cy):
+                for k in range(k0, k1):
+                    K = (k - 1) // 2 + 1
+                    K2 = K - 1 if (k - 1) % 2 == 0 else K + 1
+                    a[I, J, k] = 0.75 * x_c[I, J, K] + 0.25 * x_c[I, J, K2]
+    else:
+        a = x_c
+    c = t2[: cx * fy * fz].reshape((cx, fy, fz))
+    for I in range(cx):
         for j in range(1, fy - 1):
             J = (j - 1) // 2 + 1
             J2 = J - 1 if (j - 1) % 2 == 0 else J + 1
             for k in range(k0, k1):
-                if diag[i, j, k] == 0.0:
-                    continue
+                c[I, j, k] = 0.75 * a[I, J, k] + 0.25 * a[I, J2, k]
+    for i in range(1, fx - 1):
+        I = (i - 1) // 2 + 1
+        I2 = I - 1 if (i - 1) % 2 == 0 else I + 1
+        for j in range(1, fy - 1):
+            for k in range(k0, k1):
+                x[i, j, k] += (0.75 * c[I, j, k] + 0.25 * c[I2, j, k]) * (inverse[i, j, k] != 0.0)
+
+
+@numba.njit(cache=True)
+def _jacobi(x, b, diag, inverse, out, three_d):
+    """One damped Jacobi sweep ``out = x + omega (b - L x) / diag`` (weighted for 3D).
+
+    Reads ``x`` and writes ``out``, so the loop vectorizes; solid and ghost
+    cells (``inverse == 0``) keep their zero.
+    """
+    omega = JACOBI_WEIGHT
+    nx, ny, nz = x.shape
+    k0, k1 = (1, nz - 1) if three_d else (0, 1)
+    for i in range(1, nx - 1):
+        for j in range(1, ny - 1):
+            for k in range(k0, k1):
+                s = x[i - 1, j, k] + x[i + 1, j, k] + x[i, j - 1, k] + x[i, j + 1, k]
                 if three_d:
-                    K = (k - 1) // 2 + 1
-                    K2 = K - 1 if (k - 1) % 2 == 0 else K + 1
-                    near = 0.75 * (0.75 * x_c[I, J, K] + 0.25 * x_c[I, J2, K]) + 0.25 * (
-                        0.75 * x_c[I2, J, K] + 0.25 * x_c[I2, J2, K]
-                    )
-                    far = 0.75 * (0.75 * x_c[I, J, K2] + 0.25 * x_c[I, J2, K2]) + 0.25 * (
-                        0.75 * x_c[I2, J, K2] + 0.25 * x_c[I2, J2, K2]
-                    )
-                    x[i, j, k] += 0.75 * near + 0.25 * far
-                else:
-                    x[i, j, 0] += 0.75 * (0.75 * x_c[I, J, 0] + 0.25 * x_c[I, J2, 0]) + 0.25 * (
-                        0.75 * x_c[I2, J, 0] + 0.25 * x_c[I2, J2, 0]
-                    )
+                    s += x[i, j, k - 1] + x[i, j, k + 1]
+                residual = b[i, j, k] + s - diag[i, j, k] * x[i, j, k]
+                out[i, j, k] = x[i, j, k] + omega * inverse[i, j, k] * residual
+
+
+@numba.njit(cache=True)
+def _smooth_(x, b, diag, inverse, tmp, sweeps, adjoint, three_d):
+    """``sweeps`` smoothing steps on ``x`` in place; ``adjoint`` reverses the order.
+
+    3D: damped Jacobi, two sweeps a step (``x -> tmp -> x``), self-adjoint.
+    2D: red-black Gauss-Seidel (red then black; black then red for the
+    adjoint), which converges faster there and costs little.
+    """
+    for _ in range(sweeps):
+        if three_d:
+            _jacobi(x, b, diag, inverse, tmp, three_d)
+            _jacobi(tmp, b, diag, inverse, x, three_d)
+        else:
+            _smooth(x, b, inverse, 1 if adjoint else 0, three_d)
+            _smooth(x, b, inverse, 0 if adjoint else 1, three_d)
 
 
 @numba.njit(cache=True)
@@ -276,43 +340,34 @@ def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d):
         r: padded residual of the finest level.
         z: padded output, same shape.
         diag, inverse, shapes, offsets: the ``Hierarchy`` arrays.
-        work: ``(3, offsets[-1])`` scratch: per-level solution, right side, residual.
+        work: ``(5, offsets[-1])`` scratch: per-level solution, right side,
+            residual, and two rows for the separable transfers.
         three_d: whether z is a real axis.
     """
-    levels = shapes.shape[0]
-    xs, bs, rs = work[0], work[1], work[2]
+    coarsest = shapes.shape[0] - 1
+    steps = SMOOTHING_STEPS_3D if three_d else SMOOTHING_STEPS_2D
+    xs, bs, rs, t1, t2 = work[0], work[1], work[2], work[3], work[4]
     _level(bs, shapes, offsets, 0)[:] = r
-    for level in range(levels):
-        x = _level(xs, shapes, offsets, level)
-        b = _level(bs, shapes, offsets, level)
-        d = _level(diag, shapes, offsets, level)
-        inv = _level(inverse, shapes, offsets, level)
-        x[:] = 0.0
-        sweeps = PRE_SMOOTH if level < levels - 1 else COARSEST_SWEEPS
-        for _ in range(sweeps):
-            _smooth(x, b, inv, 0, three_d)
-            _smooth(x, b, inv, 1, three_d)
-        if level == levels - 1:
-            for _ in range(sweeps):  # the adjoint sweeps keep the coarse solve symmetric
-                _smooth(x, b, inv, 1, three_d)
-                _smooth(x, b, inv, 0, three_d)
-            break
+    for level in range(coarsest + 1):
+        x, b = _level(xs, shapes, offsets, level), _level(bs, shapes, offsets, level)
+        d, inv = _level(diag, shapes, offsets, level), _level(inverse, shapes, offsets, level)
         res = _level(rs, shapes, offsets, level)
+        x[:] = 0.0
+        if level == coarsest:  # symmetric Gauss-Seidel stands in for an exact solve
+            for adjoint in (False, True):
+                for _ in range(COARSEST_SWEEPS):
+                    _smooth(x, b, inv, 1 if adjoint else 0, three_d)
+                    _smooth(x, b, inv, 0 if adjoint else 1, three_d)
+            break
+        _smooth_(x, b, d, inv, res, steps, False, three_d)
         _residual(x, b, d, res, three_d)
-        _restrict(
-            res,
-            _level(diag, shapes, offsets, level + 1),
-            _level(bs, shapes, offsets, level + 1),
-            three_d,
-        )
-    for level in range(levels - 2, -1, -1):
-        x = _level(xs, shapes, offsets, level)
-        b = _level(bs, shapes, offsets, level)
-        inv = _level(inverse, shapes, offsets, level)
-        _prolong_add(_level(xs, shapes, offsets, level + 1), x, inv, three_d)
-        for _ in range(PRE_SMOOTH):
-            _smooth(x, b, inv, 1, three_d)
-            _smooth(x, b, inv, 0, three_d)
+        d_c, b_c = _level(diag, shapes, offsets, level + 1), _level(bs, shapes, offsets, level + 1)
+        _restrict(res, d_c, b_c, t1, t2, three_d)
+    for level in range(coarsest - 1, -1, -1):
+        x, b = _level(xs, shapes, offsets, level), _level(bs, shapes, offsets, level)
+        d, inv = _level(diag, shapes, offsets, level), _level(inverse, shapes, offsets, level)
+        _prolong_add(_level(xs, shapes, offsets, level + 1), x, inv, t1, t2, three_d)
+        _smooth_(x, b, d, inv, _level(rs, shapes, offsets, level), steps, True, three_d)
     z[:] = _level(xs, shapes, offsets, 0)
 
 
@@ -326,4 +381,4 @@ def preconditioner(system):
 @functools.lru_cache(maxsize=4)
 def _work(size: int) -> np.ndarray:
     """Per-level scratch, reused between solves (fresh pages cost more than a cycle)."""
-    return np.zeros((3, size))
+    return np.zeros((5, size), dtype=np.float32)

@@ -6,8 +6,8 @@ grid with a ball obstacle, random right-hand side, residual 1e-8 (iterations):
     grid          multigrid   MIC(0)   Jacobi
     64x32              8         30      161
     256x128           11         88      618
-    32x16x16           8         21       83
-    64x32x32           9         34      167
+    32x16x16           9         21       83
+    64x32x32          10         34      167
 
 MIC(0) grows with the square root of the cells per axis (its condition number
 is O(1/h)); multigrid by about one iteration per doubling, so multigrid is the
