@@ -96,7 +96,7 @@ def test_gresho_column_between_plates_keeps_its_energy():
     loss = 1 - kinetic_energy(grid, end) / kinetic_energy(grid, start)
     print(f"Gresho column 32x32x8 between plates, half a turnover: energy loss {loss:.1%}")
     # measured 13.6%, as in 2D at this resolution and time; flow along z stays
-    # a round-off-sized artefact of the plates (measured 1e-4 of the top speed)
+    # a small artefact next to the plates (measured 1e-4 of the top speed)
     assert 0 < loss < 0.18
     assert np.abs(end[2]).max() < 1e-3
 
