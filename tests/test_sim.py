@@ -19,14 +19,6 @@ PADDLER = """<mujoco><worldbody><body name="shell"><freejoint/>
       <joint name="right" type="hinge" axis="-1 0 0" range="-60 60"/>
       <geom type="box" size=".06 .1 .01" pos="0 -.1 0" density="1000"/></body>
   </body></worldbody></mujoco>"""
-TWO_LINKS = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
-  <worldbody><body name="front">
-    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
-    <joint type="hinge" axis="0 0 1"/>
-    <geom type="box" size=".1 .02 .02" density="1000"/>
-    <body name="back" pos="-.1 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-60 60"/>
-      <geom type="box" size=".1 .015 .02" pos="-.1 0 0" density="1000"/></body>
-  </body></worldbody></mujoco>"""
 
 
 @pytest.fixture(scope="module", params=["eel2d", "fish"])
@@ -238,10 +230,10 @@ def test_a_policy_with_damping_is_evaluated_at_the_end_of_the_step():
     np.testing.assert_array_equal(servo.calls[0][2], state.qvel)
 
 
-def test_energy_is_the_work_of_the_joint_torque():
+def test_energy_is_the_work_of_the_joint_torque(two_links):
     """A constant internal torque tau: the energy account is |tau| |dtheta| exactly,
     and the kinetic energy gained equals that work to first order in dt."""
-    model = ag.load_model(TWO_LINKS)
+    model = ag.load_model(two_links)
     scene = ag.make_scene(model)
     tau = np.array([0, 0, 0, 0.02])
     state = ag.init_state(scene)
@@ -282,16 +274,16 @@ def test_rollout_samples_30_frames_per_second_with_a_step_that_divides_a_frame(c
     assert np.all(np.diff(traj.energy.sum(axis=1)) >= 0) and traj.energy[-1].sum() > 0
 
 
-def test_divergence_says_when():
-    scene = ag.make_scene(ag.load_model(TWO_LINKS))
+def test_divergence_says_when(two_links):
+    scene = ag.make_scene(ag.load_model(two_links))
     state = ag.init_state(scene)
     with pytest.raises(SimulationDiverged, match=r"diverged at t = 0(\.\d+)? s"):
         for _ in range(100):
             state = ag.step(scene, state, 0.01, lambda t, q, qd: np.r_[0, 0, 0, 1e308])
 
 
-def test_bad_step_arguments():
-    scene = ag.make_scene(ag.load_model(TWO_LINKS))
+def test_bad_step_arguments(two_links):
+    scene = ag.make_scene(ag.load_model(two_links))
     state = ag.init_state(scene)
     with pytest.raises(ValueError, match="dt must be a positive"):
         ag.step(scene, state, 0.0)

@@ -10,15 +10,6 @@ from aquagait.control.pd import quat_conj, quat_exp, quat_log, quat_mul
 from aquagait.sim import SimulationDiverged
 
 DT = 0.01
-# a planar two-link body: one actuated DOF, so the servo's stability bound is exact
-TWO_LINKS = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
-  <worldbody><body name="front">
-    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
-    <joint type="hinge" axis="0 0 1"/>
-    <geom type="box" size=".1 .02 .02" density="1000"/>
-    <body name="back" pos="-.1 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-60 60"/>
-      <geom type="box" size=".1 .015 .02" pos="-.1 0 0" density="1000"/></body>
-  </body></worldbody></mujoco>"""
 # 3D: a free root and a ball joint
 BALL = """<mujoco><worldbody><body name="shell"><freejoint/>
     <geom type="ellipsoid" size=".2 .15 .05" density="1000"/>
@@ -101,9 +92,9 @@ def test_ball_joint_error_is_the_rotation_from_reference_in_the_child_frame():
     np.testing.assert_allclose((ahead - behind)[6:9] / (2 * h), qd[6:9], rtol=1e-8)
 
 
-def decay_ratio(servo_class, x, steps=100, zeta=1.0):
+def decay_ratio(two_links, servo_class, x, steps=100, zeta=1.0):
     """|joint error| after ``steps`` over its start, for a servo with w dt = x."""
-    model = ag.load_model(TWO_LINKS)
+    model = ag.load_model(two_links)
     spec = GaitSpec(dofs=("j",))
     servo = servo_class.tuned(model, spec.unpack([0.0, 0.0]), x / DT, zeta)
     scene = ag.make_scene(model)
@@ -116,16 +107,16 @@ def decay_ratio(servo_class, x, steps=100, zeta=1.0):
     return abs(state.qpos[3]) / 1e-3
 
 
-def test_explicit_pd_stability_bound_matches_the_simulation():
+def test_explicit_pd_stability_bound_matches_the_simulation(two_links):
     """x^2 + 4 zeta x < 4: at zeta = 1, x < 2 (sqrt 2 - 1) = 0.83 (see control/pd.py)."""
-    assert decay_ratio(PD, 0.78) < 1
-    assert decay_ratio(PD, 0.88) > 1e3
+    assert decay_ratio(two_links, PD, 0.78) < 1
+    assert decay_ratio(two_links, PD, 0.88) > 1e3
 
 
-def test_stable_pd_stability_bound_matches_the_simulation():
+def test_stable_pd_stability_bound_matches_the_simulation(two_links):
     """3 x^2 < 4 + 4 zeta x: at zeta = 1, x < 2 (see control/pd.py)."""
-    assert decay_ratio(StablePD, 1.9) < 1
-    assert decay_ratio(StablePD, 2.1) > 1e3
+    assert decay_ratio(two_links, StablePD, 1.9) < 1
+    assert decay_ratio(two_links, StablePD, 2.1) > 1e3
 
 
 def track(model, servo, gait, seconds=3.0):

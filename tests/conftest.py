@@ -1,0 +1,19 @@
+"""Models shared by tests in several folders."""
+
+import pytest
+
+# A planar two-link body: one actuated DOF, so a servo's stability bound is exact.
+TWO_LINKS = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
+  <worldbody><body name="front">
+    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
+    <joint type="hinge" axis="0 0 1"/>
+    <geom type="box" size=".1 .02 .02" density="1000"/>
+    <body name="back" pos="-.1 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-60 60"/>
+      <geom type="box" size=".1 .015 .02" pos="-.1 0 0" density="1000"/></body>
+  </body></worldbody></mujoco>"""
+
+
+@pytest.fixture
+def two_links() -> str:
+    """MJCF text of the planar two-link body."""
+    return TWO_LINKS
