@@ -142,11 +142,14 @@ def pcg(
         raise ValueError(f"warm start has shape {np.shape(x0)}, expected {system.shape}")
     dim = len(system.shape)
     x, r, z, z_old, d, ad = _workspace(padded_shape(system.shape))
-    interior(x, dim)[...] = 0.0 if x0 is None else np.where(system.solid, 0.0, x0)
+    diag = system.hierarchy.level_diag(0)
+    if x0 is None:
+        x[...] = 0.0
+    else:
+        _load_fluid_(x, _as_3d(np.asarray(x0, dtype=float)), diag)
     apply = _operator(system)
     apply(x, ad)
-    interior(r, dim)[...] = np.where(system.solid, 0.0, b) - interior(ad, dim)
-    residual = float(np.abs(r).max())
+    residual = _initial_residual_(r, _as_3d(np.asarray(b, dtype=float)), ad, diag)
     iterations = 0
     if residual > atol:
         iterations, residual = _iterate(apply, precondition(system), x, r, z, z_old, d, ad,
@@ -219,6 +222,35 @@ def _low_rank_arrays(system: PressureSystem, padded: tuple[int, int, int]):
         cells = np.column_stack([cells, np.zeros(len(cells), np.int64)])
     flat = np.ravel_multi_index(tuple(cells.T), padded)
     return flat, np.ascontiguousarray(lr.rows, float), np.ascontiguousarray(lr.core, float)
+
+
+def _as_3d(field: np.ndarray) -> np.ndarray:
+    return field.reshape(field.shape + (1,) * (3 - field.ndim))
+
+
+@numba.njit(cache=True)
+def _load_fluid_(x, field, diag):
+    """``x = field`` at fluid cells of the padded ``x`` and 0 elsewhere."""
+    kz = 1 if x.shape[2] > 1 else 0
+    x[:] = 0.0
+    nx, ny, nz = field.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if diag[i + 1, j + 1, k + kz] != 0.0:
+                    x[i + 1, j + 1, k + kz] = field[i, j, k]
+
+
+@numba.njit(cache=True)
+def _initial_residual_(r, b, ad, diag):
+    """``r = b - A x`` at fluid cells (0 elsewhere), given ``ad = A x``; returns ``max |r|``."""
+    _load_fluid_(r, b, diag)
+    fr, fad = r.ravel(), ad.ravel()
+    residual = 0.0
+    for n in range(fr.size):
+        fr[n] -= fad[n]
+        residual = max(residual, abs(fr[n]))
+    return residual
 
 
 @numba.njit(cache=True)
