@@ -16,7 +16,7 @@ LAYERS = [
     {"coupling"},
     {"sim"},
     {"control"},
-    {"objectives"},
+    {"objectives", "metrics"},
     {"optimize"},
     {"path"},
     {"creatures"},

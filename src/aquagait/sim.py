@@ -90,6 +90,30 @@ class State:
 
 
 @dataclass(frozen=True, eq=False)
+class FluidFrames:
+    """The fluid as recorded once per frame, for pictures and particle traces.
+
+    Always a plane: the whole grid in 2D, the mid-plane z = const through the
+    grid's centre in 3D (x-y plane, cell-centred values). F frames, a plane of
+    ``nx x ny`` cells.
+
+    Attributes:
+        cell_size: h [m].
+        origin: (F, 2) world position of the plane's lower corner per frame
+            (the grid follows the creature) [m].
+        velocity: (F, 2, nx, ny) in-plane velocity at cell centres [m/s].
+        solid: (F, nx, ny) cells inside the body.
+        plane_z: the plane's world z [m] (0 in 2D).
+    """
+
+    cell_size: float
+    origin: np.ndarray
+    velocity: np.ndarray
+    solid: np.ndarray
+    plane_z: float = 0.0
+
+
+@dataclass(frozen=True, eq=False)
 class Trajectory:
     """A rollout sampled at ``fps`` frames per second; F frames, the first at the start.
 
@@ -99,6 +123,7 @@ class Trajectory:
             cumulative actuator work per DOF.
         dt: the simulation step used [s].
         fps: frames per second.
+        fluid: the fluid per frame, or None in vacuum.
     """
 
     time: np.ndarray
@@ -108,6 +133,7 @@ class Trajectory:
     energy: np.ndarray
     dt: float
     fps: float
+    fluid: FluidFrames | None = None
 
 
 def make_scene(
