@@ -93,19 +93,57 @@ def project(
     if solid_velocity is not None:
         grid.check_velocity(solid_velocity, "solid_velocity")
     u = tuple(np.array(c, dtype=float) for c in velocity)
-    comps, solid_comps = _as_3d(u), _as_3d(u if solid_velocity is None else solid_velocity)
-    solid_padded = pad(system.solid.astype(float))
-    rhs = np.zeros_like(solid_padded)
-    scale = density * grid.cell_size / dt
-    speed = _fix_solid_faces(comps, solid_comps, solid_velocity is None, solid_padded, grid.dim)
+    speed = set_solid_faces_(grid, u, system.solid, solid_velocity)
     if speed == 0.0:
         return Projection(u, grid.zeros_cells(), 0, 0.0)
-    _outflow(comps, solid_padded, -scale, rhs, grid.dim)
-    result = solve(system, interior(rhs, grid.dim), atol=tol * speed * scale, x0=pressure)
-    _subtract_gradient(comps, pad(result.x), solid_padded, 1.0 / scale, grid.dim)
-    _outflow(comps, solid_padded, 1.0, rhs, grid.dim)
-    max_divergence = float(np.max(np.abs(rhs))) / grid.cell_size
+    scale = density * grid.cell_size / dt
+    rhs = -scale * fluid_outflow(grid, u, system.solid)
+    result = solve(system, rhs, atol=tol * speed * scale, x0=pressure)
+    subtract_gradient_(grid, u, result.x, system.solid, 1.0 / scale)
+    max_divergence = float(np.abs(fluid_outflow(grid, u, system.solid)).max()) / grid.cell_size
     return Projection(u, result.x, result.iterations, max_divergence)
+
+
+def set_solid_faces_(
+    grid: Grid, velocity: Velocity, solid: np.ndarray, solid_velocity: Velocity | None = None
+) -> float:
+    """Give every face that touches a solid cell the solid's velocity, in place.
+
+    Args:
+        grid: the MAC grid.
+        velocity: face velocities, changed in place [m/s].
+        solid: boolean cell mask, ``grid.shape``.
+        solid_velocity: the solids' face velocities [m/s]; None for zero.
+    Returns:
+        the largest ``|u|`` over all faces afterwards [m/s].
+    """
+    comps = _as_3d(velocity)
+    sources = comps if solid_velocity is None else _as_3d(solid_velocity)
+    return _fix_solid_faces(comps, sources, solid_velocity is None, _padded(solid), grid.dim)
+
+
+def fluid_outflow(grid: Grid, velocity: Velocity, solid: np.ndarray) -> np.ndarray:
+    """``D u`` of every fluid cell (0 in solid cells), ``grid.shape`` [m/s]."""
+    solid_padded = _padded(solid)
+    out = np.zeros_like(solid_padded)
+    _outflow(_as_3d(velocity), solid_padded, 1.0, out, grid.dim)
+    return interior(out, grid.dim).copy()
+
+
+def subtract_gradient_(
+    grid: Grid, velocity: Velocity, pressure: np.ndarray, solid: np.ndarray, factor: float
+) -> None:
+    """``u -= factor (p_hi - p_lo)`` on faces between two non-solid cells, in place.
+
+    ``p = 0`` outside the grid (open boundary); faces touching a solid keep
+    their velocity. With ``factor = dt / (rho h)`` this is the pressure's
+    acceleration of the fluid over a step.
+    """
+    _subtract_gradient(_as_3d(velocity), pad(pressure), _padded(solid), factor, grid.dim)
+
+
+def _padded(solid: np.ndarray) -> np.ndarray:
+    return pad(np.asarray(solid, dtype=float))
 
 
 def _as_3d(velocity: Velocity) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
