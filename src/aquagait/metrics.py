@@ -135,7 +135,7 @@ def stroke_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) ->
     com = centre_of_mass_path(model, cycle)
     tip = tail_tip_path(model, cycle)
     displacement = com[-1] - com[0]
-    cycle_speed = _rounded(np.linalg.norm(displacement), model) / (cycle.time[-1] - cycle.time[0])
+    cycle_speed = _rounded(np.linalg.norm(displacement), model) / float(np.ptp(cycle.time))
     amplitude = lateral_excursion(tip, displacement)
     return {
         "cycle_speed": cycle_speed,
