@@ -201,30 +201,38 @@ def tail_tip(model: Model) -> TailTip:
 def geom_points(model: Model, world: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Points on every geom of ``model`` at the reference pose, and the link of each.
 
-    Mesh vertices and box corners exactly; spheres, ellipsoids, capsules and
-    cylinders sampled (24 azimuths); enough for outlines and extreme points.
-
     Args:
         model: the creature.
         world: world coordinates at ``qpos0`` if True, else each link's frame.
 
     Returns:
-        ``links`` (n,) link index of each point, ``points`` (n, 3) [m].
+        ``links`` (n,) link index of each point, ``points`` (n, 3) [m]; see ``geom_point_sets``.
+    """
+    sets = geom_point_sets(model, world)
+    links = np.concatenate([np.full(len(points), link) for link, points in sets])
+    return links, np.concatenate([points for _, points in sets])
+
+
+def geom_point_sets(model: Model, world: bool = False) -> list[tuple[int, np.ndarray]]:
+    """Per geom: its link index and points on it (n_g, 3) [m] at the reference pose.
+
+    Mesh vertices and box corners exactly; spheres, ellipsoids, capsules and
+    cylinders sampled (24 azimuths); enough for outlines and extreme points.
+    In each link's frame, or in the world at ``qpos0`` if ``world``.
     """
     facts = describe(model.mj)
-    links, points = [], []
+    sets = []
     for g, kind in enumerate(facts.geom_kind):
         if kind == "mesh":
-            world_points = facts.geom_vertices[g]
+            points = facts.geom_vertices[g]
         else:
             local = _primitive_points(kind, facts.geom_size[g])
-            world_points = facts.geom_pos[g] + local @ facts.geom_rot[g].T
+            points = facts.geom_pos[g] + local @ facts.geom_rot[g].T
         link = int(facts.geom_link[g])
         if not world:
-            world_points = (world_points - facts.link_pos[link]) @ facts.link_rot[link]
-        points.append(world_points)
-        links.append(np.full(len(world_points), link))
-    return np.concatenate(links), np.concatenate(points)
+            points = (points - facts.link_pos[link]) @ facts.link_rot[link]
+        sets.append((link, np.asarray(points, dtype=float)))
+    return sets
 
 
 def _primitive_points(kind: str, size) -> np.ndarray:

@@ -1,0 +1,13 @@
+"""Pictures and videos of swims (DESIGN.md §2.7, §3); the ``viz`` extra.
+
+    from aquagait.viz import render_swim
+    render_swim(trajectory, creature.model, "runs/eel2d/swim.mp4")
+
+Reads Trajectory only; matplotlib and imageio are imported inside the
+functions that draw, so importing this package needs neither.
+"""
+
+from aquagait.viz.particles import particle_traces
+from aquagait.viz.swim import Look, render_swim, swim_frames
+
+__all__ = ["Look", "particle_traces", "render_swim", "swim_frames"]
