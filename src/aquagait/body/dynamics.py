@@ -160,6 +160,32 @@ def describe(mj) -> CompiledFacts:
     )
 
 
+def mesh_faces(mj) -> tuple:
+    """The triangles of every mesh geom, for building its inside test (``voxelize``).
+
+    A mesh given by vertices only gets the faces of its convex hull (MuJoCo's
+    compiler computes them); a mesh given with faces keeps its own, convex or
+    not. MuJoCo's mass uses the same triangles, so a volume from them agrees
+    with ``link_mass / density``.
+
+    Args:
+        mj: a compiled ``mujoco.MjModel``.
+    Returns:
+        per geom: an (nf, 3) int array of vertex indices into
+        ``describe(mj).geom_vertices[g]``, counter-clockwise seen from outside
+        (right-hand normals point out of the mesh); None for other geoms.
+    """
+    faces = []
+    for g in range(mj.ngeom):
+        mesh = mj.geom_dataid[g]
+        if mj.geom_type[g] != mujoco.mjtGeom.mjGEOM_MESH or mesh < 0:
+            faces.append(None)
+            continue
+        start, count = mj.mesh_faceadr[mesh], mj.mesh_facenum[mesh]
+        faces.append(mj.mesh_face[start : start + count].astype(np.int64))
+    return tuple(faces)
+
+
 class Dynamics:
     """Mass matrix, bias forces, kinematics and integration of one articulated body.
 
