@@ -1,0 +1,488 @@
+"""Voxelize the links at a pose: solid cells, their owner links, the coupled faces (paper §3.3).
+
+DESIGN.md §2.3: a cell whose centre lies inside a link is SOLID and remembers
+that link; a face between a FLUID and a SOLID cell is a *coupled face*, with
+outward normal ``n_f = sign * e_axis`` (from the solid cell into the fluid
+cell) and the solid cell's owner. This runs every fluid step, so each link
+tests only the cells inside its own world bounding box, against its
+signed-distance grid baked once in its rest frame (``aquagait.body.shape``),
+in serial Numba kernels.
+
+Rules:
+
+- Owner: a cell inside several links belongs to the one it is deepest in (the
+  most negative sampled signed distance); an exact tie goes to the lowest link
+  index.
+- Pockets: fluid cells that cannot reach the grid border through fluid would
+  make the pressure system singular (DESIGN.md §2.3). They become solid and
+  move with the body: each takes the owner of the nearest solid cell (a
+  breadth-first search from the solid; ties in scan order).
+- The grid border is open water: faces on it are never coupled faces.
+- 2D: the planar body is cut at z = 0; its links turn about z only.
+
+``overlap_volume`` measures where non-adjacent links interpenetrate, the
+``E_collision`` term of the objective (DESIGN.md §2.4).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from aquagait.body.shape import BodyShape, body_shape
+from aquagait.grid import Grid
+
+__all__ = ["BodyShape", "Voxels", "body_shape", "overlap_volume", "voxelize"]
+
+MAX_OVERLAP_SAMPLES = 50_000_000
+"""Most lattice points ``overlap_volume`` will count; ~100^3 is the usual budget."""
+
+
+@dataclass(frozen=True, eq=False)
+class Voxels:
+    """The body on the grid at one pose: solid cells and coupled faces.
+
+    ``m`` is the number of coupled faces, ``dim`` the grid's dimension.
+
+    Attributes:
+        solid: ``grid.shape`` bool, the cell centre is inside a link, or the
+            cell is a sealed fluid pocket.
+        owner: ``grid.shape`` int32, owning link of a solid cell, -1 for fluid.
+        face_axis: (m,) int64, the axis ``a`` a coupled face is normal to.
+        face_index: (m, dim) int64, its index into ``velocity[a]`` (shape
+            ``grid.face_shape(a)``).
+        face_sign: (m,) float64, +1 or -1: the outward normal is
+            ``n_f = face_sign * e_a``, from the solid cell into the fluid cell.
+        face_cell: (m, dim) int64, index of the FLUID cell next to the face.
+        face_link: (m,) int64, owner link of the SOLID cell next to the face.
+        face_center: (m, 3) world position of the face centre [m] (z = 0 in 2D).
+    """
+
+    solid: np.ndarray
+    owner: np.ndarray
+    face_axis: np.ndarray
+    face_index: np.ndarray
+    face_sign: np.ndarray
+    face_cell: np.ndarray
+    face_link: np.ndarray
+    face_center: np.ndarray
+
+    @property
+    def face_count(self) -> int:
+        """``m``, the number of coupled faces."""
+        return int(self.face_axis.shape[0])
+
+
+def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
+    """Solid cells, owners and coupled faces of the links at one pose (paper §3.3).
+
+    Args:
+        shape: the links' baked geometry (``body_shape(model, grid.cell_size)``).
+        grid: the MAC grid, of the model's dimension.
+        link_pos: (nl, 3) world origins of the links [m].
+        link_rot: (nl, 3, 3) world rotations of the links (both from
+            ``Dynamics.link_poses(q)``).
+    Returns:
+        the ``Voxels``.
+    Raises:
+        ValueError: malformed poses, a 2D pose that leaves the x-y plane, a grid
+            of the wrong dimension or finer than the shape resolves.
+    """
+    if grid.dim != shape.dim:
+        raise ValueError(
+            f"the grid is {grid.dim}D but the body is {shape.dim}D: give a grid of {shape.dim} axes"
+        )
+    if grid.cell_size < 2 * shape.spacing:
+        raise ValueError(
+            f"the body shape samples every {shape.spacing:.3g} m, too coarse for cells of "
+            f"{grid.cell_size:.3g} m: rebuild it with body_shape(model, grid.cell_size)"
+        )
+    pos, rot = _pose(shape, link_pos, link_rot)
+    owner = np.full(_as_3d(grid.shape), -1, dtype=np.int32)
+    box = np.empty(6, dtype=np.int64)
+    origin, h = _origin_3d(grid.origin, grid.cell_size), grid.cell_size
+    best = np.full(owner.shape, np.inf, dtype=np.float32)
+    _paint_owners_(*_baked(shape), rot, pos, origin, h, owner, best, box)
+    _seal_pockets_(owner, box)
+    axis, index, sign, cell, link = _coupled_faces(owner, box)
+    dim = grid.dim
+    centre = origin + (index + 0.5) * h
+    centre[np.arange(axis.size), axis] -= 0.5 * h
+    if dim == 2:
+        centre[:, 2] = 0.0
+    owner = owner.reshape(grid.shape)
+    return Voxels(
+        solid=owner >= 0,
+        owner=owner,
+        face_axis=axis,
+        face_index=index[:, :dim],
+        face_sign=sign,
+        face_cell=cell[:, :dim],
+        face_link=link,
+        face_center=centre,
+    )
+
+
+def overlap_volume(shape: BodyShape, link_pos, link_rot, spacing: float) -> float:
+    """Volume where two or more non-adjacent links overlap [m^3] (DESIGN.md §2.4, E_collision).
+
+    Counts the points of a lattice of the given spacing over the body's
+    bounding box that lie inside two links that are not parent and child
+    (adjacent links overlap at their joints by design). Error: about the
+    overlap region's surface times ``spacing / 2`` at most, far less on average.
+
+    Args:
+        shape: the links' baked geometry.
+        link_pos: (nl, 3) world link origins [m]; link_rot: (nl, 3, 3).
+        spacing: lattice spacing [m], e.g. the body length / 100.
+    Returns:
+        the volume [m^3]; in 2D the overlapping area times the prism depth.
+    Raises:
+        ValueError: malformed poses or spacing, more than 63 links, or a
+            lattice of more than ``MAX_OVERLAP_SAMPLES`` points.
+    """
+    if not np.isfinite(spacing) or spacing <= 0:
+        raise ValueError(f"spacing must be a positive length in metres, got {spacing!r}")
+    if shape.nlinks > 63:
+        raise ValueError(f"overlap_volume handles up to 63 links, this body has {shape.nlinks}")
+    pos, rot = _pose(shape, link_pos, link_rot)
+    if not shape.dims[:, 0].any():
+        return 0.0  # no geoms at all
+    lo, hi = _bounds(shape, pos, rot)
+    counts = np.maximum(np.ceil((hi - lo) / spacing).astype(np.int64), 1)
+    if shape.dim == 2:
+        lo[2], counts[2] = -spacing / 2, 1  # lattice points at z = 0
+    if counts.prod() > MAX_OVERLAP_SAMPLES:
+        raise ValueError(
+            f"spacing {spacing:.3g} m needs {counts.prod()} lattice points over the body, more "
+            f"than {MAX_OVERLAP_SAMPLES}; use a larger spacing"
+        )
+    inside = np.zeros(tuple(counts), dtype=np.int64)
+    apart = _apart_masks(shape.parent)
+    count = _overlap_count(*_baked(shape), rot, pos, lo, float(spacing), inside, apart)
+    if shape.dim == 2:
+        return float(count * spacing**2 * shape.depth)
+    return float(count * spacing**3)
+
+
+# --- checks and small geometry --------------------------------------------------
+
+
+def _pose(shape: BodyShape, link_pos, link_rot) -> tuple[np.ndarray, np.ndarray]:
+    """Checked link origins (nl, 3) and rest-frame-to-world rotations (nl, 3, 3)."""
+    nl = shape.nlinks
+    pos = np.ascontiguousarray(link_pos, dtype=float)
+    rot = np.asarray(link_rot, dtype=float)
+    source = "e.g. from Dynamics.link_poses(q)"
+    if pos.shape != (nl, 3):
+        raise ValueError(f"link_pos has shape {pos.shape}; this body needs ({nl}, 3), {source}")
+    if rot.shape != (nl, 3, 3):
+        raise ValueError(f"link_rot has shape {rot.shape}; this body needs ({nl}, 3, 3), {source}")
+    if not (np.isfinite(pos).all() and np.isfinite(rot).all()):
+        raise ValueError("link_pos and link_rot must be finite")
+    if np.abs(np.einsum("kji,kjl->kil", rot, rot) - np.eye(3)).max() > 1e-6:
+        raise ValueError("link_rot must hold rotation matrices (orthonormal, 3x3 per link)")
+    world = np.ascontiguousarray(np.einsum("kij,klj->kil", rot, shape.rest_rot))
+    if shape.dim == 2 and np.abs(world[:, 2, 2] - 1).max() > 1e-6:
+        raise ValueError(
+            "a planar (2D) body's links turn about z only, but link_rot tilts a link out of "
+            "the x-y plane"
+        )
+    return pos, world
+
+
+def _baked(shape: BodyShape) -> tuple:
+    """The shape's arrays in the order the kernels take them."""
+    return shape.sdf, shape.offset, shape.dims, shape.lower, shape.spacing
+
+
+def _as_3d(shape: tuple[int, ...]) -> tuple[int, int, int]:
+    return tuple(shape) + (1,) * (3 - len(shape))
+
+
+def _origin_3d(origin, h: float) -> np.ndarray:
+    """Grid origin in 3D; a 2D grid gets one layer of cells centred on z = 0."""
+    return np.array(tuple(origin) + (-h / 2,) * (3 - len(origin)))
+
+
+def _bounds(shape: BodyShape, pos: np.ndarray, rot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """World bounding box (lo, hi) of every link's baked grid [m]."""
+    corners = np.array(np.meshgrid([0, 1], [0, 1], [0, 1], indexing="ij")).reshape(3, -1).T
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for k in np.flatnonzero(shape.dims[:, 0] > 0):
+        local = shape.lower[k] + corners * (shape.dims[k] - 1) * shape.spacing
+        world = pos[k] + local @ rot[k].T
+        lo, hi = np.minimum(lo, world.min(axis=0)), np.maximum(hi, world.max(axis=0))
+    return lo, hi
+
+
+def _apart_masks(parent: np.ndarray) -> np.ndarray:
+    """Bit masks (nl,) int64: bit j of entry k is set when links k and j are not adjacent."""
+    nl = parent.size
+    everyone = (1 << nl) - 1
+    masks = np.empty(nl, dtype=np.int64)
+    for k in range(nl):
+        near = 1 << k
+        if parent[k] >= 0:
+            near |= 1 << int(parent[k])
+        for child in np.flatnonzero(parent == k):
+            near |= 1 << int(child)
+        masks[k] = everyone & ~near
+    return masks
+
+
+# --- kernels ------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
+    """Cells (out[a] = first, last) whose centres lie in the world box of a link's grid."""
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    for corner in range(8):
+        b = np.empty(3)
+        for a in range(3):
+            b[a] = lower[a] + ((corner >> a) & 1) * (dims[a] - 1) * spacing
+        for a in range(3):
+            w = pos[a] + rot[a, 0] * b[0] + rot[a, 1] * b[1] + rot[a, 2] * b[2]
+            lo[a] = min(lo[a], w)
+            hi[a] = max(hi[a], w)
+    for a in range(3):
+        if shape[a] == 1:  # the single layer of a 2D grid
+            out[a, 0], out[a, 1] = 0, 0
+            continue
+        first = np.ceil((lo[a] - origin[a]) / h - 0.5)
+        last = np.floor((hi[a] - origin[a]) / h - 0.5)
+        out[a, 0] = int(min(max(first, 0.0), shape[a]))  # clipped before int: no overflow
+        out[a, 1] = int(min(max(last, -1.0), shape[a] - 1))
+
+
+@numba.njit(cache=True)
+def _value_at(sdf, base, dims, lower, spacing, rot, pos, x, y, z):
+    """Interpolated signed distance of one link at a world point [m]; +inf off its grid.
+
+    Trilinear; bilinear when the grid has one z layer (2D).
+    """
+    dx, dy, dz = x - pos[0], y - pos[1], z - pos[2]
+    u = (rot[0, 0] * dx + rot[1, 0] * dy + rot[2, 0] * dz - lower[0]) / spacing
+    v = (rot[0, 1] * dx + rot[1, 1] * dy + rot[2, 1] * dz - lower[1]) / spacing
+    n0, n1, n2 = dims[0], dims[1], dims[2]
+    if u < 0 or v < 0 or u > n0 - 1 or v > n1 - 1:
+        return np.inf
+    i, j = min(int(u), n0 - 2), min(int(v), n1 - 2)
+    fu, fv = u - i, v - j
+    if n2 == 1:
+        at = base + i * n1 + j
+        low = sdf[at] * (1 - fv) + sdf[at + 1] * fv
+        high = sdf[at + n1] * (1 - fv) + sdf[at + n1 + 1] * fv
+        return low * (1 - fu) + high * fu
+    w = (rot[0, 2] * dx + rot[1, 2] * dy + rot[2, 2] * dz - lower[2]) / spacing
+    if w < 0 or w > n2 - 1:
+        return np.inf
+    l = min(int(w), n2 - 2)
+    fw = w - l
+    total = 0.0
+    for di in range(2):
+        for dj in range(2):
+            at = base + ((i + di) * n1 + j + dj) * n2 + l
+            weight = (fu if di else 1 - fu) * (fv if dj else 1 - fv)
+            total += weight * (sdf[at] * (1 - fw) + sdf[at + 1] * fw)
+    return total
+
+
+@numba.njit(cache=True)
+def _paint_owners_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, owner, best, box):
+    """Mark cells inside links with the deepest link, in place; box = solid bounds (lo, hi)."""
+    nx, ny, nz = owner.shape
+    box[0], box[1], box[2] = nx, ny, nz
+    box[3], box[4], box[5] = -1, -1, -1
+    span = np.empty((3, 2), dtype=np.int64)
+    for k in range(dims.shape[0]):
+        if dims[k, 0] == 0:
+            continue
+        _cell_range(dims[k], lower[k], spacing, rot[k], pos[k], origin, h, owner.shape, span)
+        for i in range(span[0, 0], span[0, 1] + 1):
+            x = origin[0] + (i + 0.5) * h
+            for j in range(span[1, 0], span[1, 1] + 1):
+                y = origin[1] + (j + 0.5) * h
+                for l in range(span[2, 0], span[2, 1] + 1):
+                    z = origin[2] + (l + 0.5) * h
+                    phi = _value_at(
+                        sdf, offset[k], dims[k], lower[k], spacing, rot[k], pos[k], x, y, z
+                    )
+                    if phi < 0 and phi < best[i, j, l]:
+                        best[i, j, l] = phi
+                        owner[i, j, l] = k
+                        box[0], box[3] = min(box[0], i), max(box[3], i)
+                        box[1], box[4] = min(box[1], j), max(box[4], j)
+                        box[2], box[5] = min(box[2], l), max(box[5], l)
+
+
+@numba.njit(cache=True)
+def _expanded(box, shape, a):
+    """The solid bounds along axis ``a`` grown by one cell, clipped to the grid."""
+    return max(box[a] - 1, 0), min(box[3 + a] + 1, shape[a] - 1)
+
+
+@numba.njit(cache=True)
+def _seal_pockets_(owner, box):
+    """Turn fluid cells that cannot reach the border into solid, owned by the nearest solid.
+
+    Only the solid's bounding box grown by one cell is searched: every cell
+    outside the solid's box reaches the border in a straight line, so the
+    grown box's outer layer is open water (or the grid border itself).
+    """
+    if box[3] < 0:
+        return 0
+    shape = owner.shape
+    i0, i1 = _expanded(box, shape, 0)
+    j0, j1 = _expanded(box, shape, 1)
+    l0, l1 = _expanded(box, shape, 2)
+    reached = np.zeros((i1 - i0 + 1, j1 - j0 + 1, l1 - l0 + 1), dtype=np.bool_)
+    stack = np.empty((reached.size, 3), dtype=np.int64)
+    top = 0
+    for i in range(i0, i1 + 1):
+        for j in range(j0, j1 + 1):
+            for l in range(l0, l1 + 1):
+                edge = i == i0 or i == i1 or j == j0 or j == j1
+                edge = edge or (shape[2] > 1 and (l == l0 or l == l1))
+                if edge and owner[i, j, l] < 0:
+                    reached[i - i0, j - j0, l - l0] = True
+                    stack[top, 0], stack[top, 1], stack[top, 2] = i, j, l
+                    top += 1
+    steps = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
+    while top > 0:
+        top -= 1
+        i, j, l = stack[top, 0], stack[top, 1], stack[top, 2]
+        for di, dj, dl in steps:
+            a, b, c = i + di, j + dj, l + dl
+            if i0 <= a <= i1 and j0 <= b <= j1 and l0 <= c <= l1:
+                if owner[a, b, c] < 0 and not reached[a - i0, b - j0, c - l0]:
+                    reached[a - i0, b - j0, c - l0] = True
+                    stack[top, 0], stack[top, 1], stack[top, 2] = a, b, c
+                    top += 1
+    pockets = 0
+    for i in range(i0, i1 + 1):
+        for j in range(j0, j1 + 1):
+            for l in range(l0, l1 + 1):
+                if owner[i, j, l] < 0 and not reached[i - i0, j - j0, l - l0]:
+                    owner[i, j, l] = -2
+                    pockets += 1
+    if pockets:
+        _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1, steps)
+    return pockets
+
+
+@numba.njit(cache=True)
+def _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1, steps):
+    """Give cells marked -2 the owner of the nearest solid cell, breadth first."""
+    nx, ny, nz = owner.shape
+    queue = np.empty((pockets, 3), dtype=np.int64)
+    found = np.empty(pockets, dtype=np.int32)
+    tail = 0
+    for i in range(i0, i1 + 1):  # first layer: pockets touching the solid
+        for j in range(j0, j1 + 1):
+            for l in range(l0, l1 + 1):
+                if owner[i, j, l] != -2:
+                    continue
+                for di, dj, dl in steps:
+                    a, b, c = i + di, j + dj, l + dl
+                    if 0 <= a < nx and 0 <= b < ny and 0 <= c < nz and owner[a, b, c] >= 0:
+                        queue[tail, 0], queue[tail, 1], queue[tail, 2] = i, j, l
+                        found[tail] = owner[a, b, c]
+                        tail += 1
+                        break
+    for n in range(tail):
+        owner[queue[n, 0], queue[n, 1], queue[n, 2]] = found[n]
+    head = 0
+    while head < tail:
+        i, j, l = queue[head, 0], queue[head, 1], queue[head, 2]
+        head += 1
+        for di, dj, dl in steps:
+            a, b, c = i + di, j + dj, l + dl
+            if 0 <= a < nx and 0 <= b < ny and 0 <= c < nz and owner[a, b, c] == -2:
+                owner[a, b, c] = owner[i, j, l]
+                queue[tail, 0], queue[tail, 1], queue[tail, 2] = a, b, c
+                tail += 1
+
+
+@numba.njit(cache=True)
+def _coupled_faces(owner, box):
+    """Faces between a fluid and a solid cell: axis, face index, sign, fluid cell, link."""
+    none, rows = np.empty(0, dtype=np.int64), np.empty((0, 3), dtype=np.int64)
+    count = _face_sweep_(owner, box, none, rows, np.empty(0), rows, none)
+    axis = np.empty(count, dtype=np.int64)
+    index = np.empty((count, 3), dtype=np.int64)
+    sign = np.empty(count)
+    cell = np.empty((count, 3), dtype=np.int64)
+    link = np.empty(count, dtype=np.int64)
+    _face_sweep_(owner, box, axis, index, sign, cell, link)
+    return axis, index, sign, cell, link
+
+
+@numba.njit(cache=True)
+def _face_sweep_(owner, box, axis, index, sign, cell, link):
+    """Count the coupled faces; fill the arrays too when they are long enough."""
+    if box[3] < 0:
+        return 0
+    shape = owner.shape
+    fill = axis.size > 0
+    i0, i1 = _expanded(box, shape, 0)
+    j0, j1 = _expanded(box, shape, 1)
+    l0, l1 = _expanded(box, shape, 2)
+    count = 0
+    for a in range(3):
+        if shape[a] == 1:
+            continue
+        di, dj, dl = int(a == 0), int(a == 1), int(a == 2)
+        for i in range(i0, i1 + 1 - di):
+            for j in range(j0, j1 + 1 - dj):
+                for l in range(l0, l1 + 1 - dl):
+                    low, high = owner[i, j, l], owner[i + di, j + dj, l + dl]
+                    if (low >= 0) == (high >= 0):
+                        continue
+                    if fill:  # the face between two cells has the upper cell's index
+                        outward = low >= 0  # solid below, fluid above: n = +e_a
+                        axis[count] = a
+                        index[count, 0], index[count, 1], index[count, 2] = i + di, j + dj, l + dl
+                        sign[count] = 1.0 if outward else -1.0
+                        fluid = (i + di, j + dj, l + dl) if outward else (i, j, l)
+                        cell[count, 0], cell[count, 1], cell[count, 2] = fluid
+                        link[count] = low if outward else high
+                    count += 1
+    return count
+
+
+@numba.njit(cache=True)
+def _overlap_count(sdf, offset, dims, lower, spacing, rot, pos, origin, step, inside, apart):
+    """Lattice points inside two non-adjacent links; ``inside`` gets one bit per link."""
+    span = np.empty((3, 2), dtype=np.int64)
+    for k in range(dims.shape[0]):
+        if dims[k, 0] == 0:
+            continue
+        bit = np.int64(1) << k
+        _cell_range(dims[k], lower[k], spacing, rot[k], pos[k], origin, step, inside.shape, span)
+        for i in range(span[0, 0], span[0, 1] + 1):
+            x = origin[0] + (i + 0.5) * step
+            for j in range(span[1, 0], span[1, 1] + 1):
+                y = origin[1] + (j + 0.5) * step
+                for l in range(span[2, 0], span[2, 1] + 1):
+                    z = origin[2] + (l + 0.5) * step
+                    phi = _value_at(
+                        sdf, offset[k], dims[k], lower[k], spacing, rot[k], pos[k], x, y, z
+                    )
+                    if phi < 0:
+                        inside[i, j, l] |= bit
+    count = 0
+    flat = inside.ravel()
+    for n in range(flat.size):
+        links = flat[n]
+        if links & (links - 1) == 0:  # at most one link here
+            continue
+        for k in range(apart.size):
+            if (links >> k) & 1 and links & apart[k]:
+                count += 1
+                break
+    return count
