@@ -76,9 +76,9 @@ def test_fish_is_clownfish_sized_and_tail_light():
     assert fish.body_length == pytest.approx(0.10, rel=1e-6)
     assert fish.extent[2] == pytest.approx(0.045, rel=0.01)  # 4.5 cm deep body
     assert 0.02 < fish.mass < 0.05  # tens of grams, like the animal
-    # the caudal fin: a trapezoid 2 cm long, 1.3 -> 3.4 cm high, 5 mm thick, of water
+    # the caudal fin: a trapezoid 2 cm long, 1.3 -> 3.4 cm high, 6 mm thick, of water
     caudal = fish.link_mass[fish.links.index("caudal")]
-    assert caudal == pytest.approx(RHO * 0.02 * (0.013 + 0.034) / 2 * 0.005, rel=1e-5)
+    assert caudal == pytest.approx(RHO * 0.02 * (0.013 + 0.034) / 2 * 0.006, rel=1e-5)
     assert np.all(np.diff(fish.link_mass) < 0)  # mass falls towards the tail
 
 

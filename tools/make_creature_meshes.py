@@ -35,7 +35,7 @@ FISH_LINKS = ["head", "trunk", "peduncle"]
 FISH_LIMITS_DEG = [12, 25, 40]  # head-trunk, trunk-peduncle, peduncle-tail: tail-dominant
 # caudal fin, a plate: from s = 0.08 (half-height 6.5 mm) to 0.10 (17 mm), 5 mm thick:
 # real fins are thinner, but the fluid must see it at the default 5 mm cells.
-FISH_FIN = {"s0": 0.08, "s1": 0.10, "h0": 0.0065, "h1": 0.017, "half_thickness": 0.0025}
+FISH_FIN = {"s0": 0.08, "s1": 0.10, "h0": 0.0065, "h1": 0.017, "half_thickness": 0.003}
 
 
 def eel_half_width(s: float) -> float:

@@ -428,7 +428,8 @@ def test_fluid_inside_a_hollow_box_is_sealed_and_owned():
 @pytest.mark.parametrize("which", ["eel", "fish"])
 def test_creature_volume_matches_its_mass(which, eel, fish):
     # Averaged over sub-cell offsets of the grid the count is unbiased; one offset errs
-    # by the staircase, up to ~8% for the eel, 3.5 cells wide, and ~4% for the fish.
+    # by the staircase, up to ~8% for the eel, 3.5 cells wide, and ~7% for the fish,
+    # whose 6 mm caudal fin is one or two 5 mm cells thick depending on the offset.
     creature, shape = eel if which == "eel" else fish
     model = creature.model
     volume = model.mass / 1000  # water density: the creatures are neutrally buoyant
@@ -441,7 +442,7 @@ def test_creature_volume_matches_its_mass(which, eel, fish):
         count = voxelize(shape, grid, pos, rot).solid.sum()
         errors.append(count * grid.cell_volume * (model.depth or 1) / volume - 1)
     assert abs(np.mean(errors)) < 0.01
-    assert np.abs(errors).max() < (0.12 if which == "eel" else 0.06)
+    assert np.abs(errors).max() < (0.12 if which == "eel" else 0.09)
 
 
 # --- overlap volume -----------------------------------------------------------------
