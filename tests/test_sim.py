@@ -7,7 +7,7 @@ import pytest
 
 import aquagait as ag
 from aquagait.control import GaitSpec, StablePD
-from aquagait.sim import SimulationDiverged
+from aquagait.sim import SimulationDiverged, advance
 
 # 3D, left-right symmetric: two flippers whose hinge axes are mirror images
 PADDLER = """<mujoco><worldbody><body name="shell"><freejoint/>
@@ -42,8 +42,10 @@ def test_scene_grid_defaults_to_the_creature_and_is_centred_on_it(creature):
 
 
 def test_scene_arguments_are_checked(creature):
-    with pytest.raises(ValueError, match="'euler' is not implemented yet; available now: none"):
-        ag.make_scene(creature, fluid="euler")
+    with pytest.raises(ValueError, match="'simple' is not implemented yet; available now: none"):
+        ag.make_scene(creature, fluid="simple")
+    with pytest.raises(ValueError, match="'euler' needs a grid"):
+        ag.make_scene(creature.model, fluid="euler")
     with pytest.raises(ValueError, match="unknown fluid 'water'"):
         ag.make_scene(creature, fluid="water")
     with pytest.raises(TypeError, match=r"use aquagait.creatures.get\(name\)"):
@@ -267,7 +269,9 @@ def test_applied_torque_includes_the_implicit_damping(creature):
 def test_rollout_samples_30_frames_per_second_with_a_step_that_divides_a_frame(creature):
     scene = ag.make_scene(creature)
     traj = ag.rollout(scene, ag.init_state(scene), creature.policy(), 0.5, dt=0.01)
-    assert traj.fps == 30 and traj.dt == pytest.approx(1 / 120)
+    assert traj.fps == 30 and traj.dt == 0.01
+    frame = advance(scene, ag.init_state(scene), creature.policy(), 1 / 30, dt=0.01)
+    assert frame.steps == 4 and frame.time == 1 / 30  # four equal steps of 1/120 s
     nq, nv = creature.model.nq, creature.model.nv
     assert traj.qpos.shape == (16, nq) and traj.energy.shape == (16, nv)
     np.testing.assert_allclose(traj.time, np.arange(16) / 30, atol=1e-12)

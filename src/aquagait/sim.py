@@ -1,9 +1,16 @@
 """Simulation: a fixed ``Scene``, a changing ``State``, ``step`` and ``rollout`` (DESIGN.md §3, §4).
 
-Only ``fluid="none"`` (vacuum) exists so far: the body moves under its own
-joint forces alone, which is enough to test the body half on its own. The
-Euler fluid and the simple drag model come later and will add phases to
-``step`` (voxelize, advect, coupled solve); a new scheme is a new function.
+Two fluids so far. ``fluid="none"`` (vacuum): the body moves under its own
+joint forces alone. ``fluid="euler"``: the body swims in the inviscid fluid
+of ``aquagait.fluid``, two-way coupled through one pressure solve
+(``aquagait.coupling``, paper §3.3). One coupled step reads like the paper's
+algorithm box (``euler_step``):
+
+    voxelize the links at q^n            solid cells, coupled faces
+    advect the fluid                      u* (faces in the body carry its velocity)
+    predict the body                      Mt qd* = Mt qd^n + dt (tau - c)
+    coupled pressure solve                p, u^{n+1}, qd^{n+1}
+    move the body (and the grid)          q^{n+1}; whole-cell shifts follow the swimmer
 
 The controller seam (STYLE.md §6). A *policy* is any callable
 
@@ -18,13 +25,15 @@ of the step (the stable PD of Tan et al. 2011, paper §3.2): it calls
     (M + dt Kd) qdd = tau - c
 
 so that with ``tau = -Kp (q - qbar) - Kd qd`` it is exactly DESIGN.md §2.2.
-The force actually applied is ``tau - dt Kd qdd``; the step records it and
-adds ``|tau_i qd_i| dt`` per DOF to the energy. ``policy=None`` applies
+The force actually applied is ``tau - Kd (qd^{n+1} - qd^n)``; the step records
+it and adds ``|tau_i qd_i| dt`` per DOF to the energy. ``policy=None`` applies
 nothing. ``aquagait.control`` provides such policies; this module never
 imports it.
 
 Time integration is semi-implicit Euler: ``qd += dt qdd``, then ``q`` moves
-with the new ``qd`` (quaternions on the unit sphere).
+with the new ``qd`` (quaternions on the unit sphere). ``rollout`` takes the
+largest steps the CFL condition allows (at most ``dt``) and lands exactly on
+its frames.
 """
 
 from __future__ import annotations
@@ -35,11 +44,21 @@ import numpy as np
 
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
-from aquagait.grid import Grid
+from aquagait.body.voxelize import BodyShape, Voxels, body_shape, voxelize
+from aquagait.coupling import face_area, rigid_faces_, solve_coupled
+from aquagait.fluid.advection import advect_velocity
+from aquagait.fluid.operators import cell_centered
+from aquagait.fluid.shift import recentre_offset, shift
+from aquagait.grid import Grid, max_speed
 
-FLUIDS_NOW = ("none",)
-FLUIDS_LATER = ("euler", "simple")
+FLUIDS_NOW = ("none", "euler")
+FLUIDS_LATER = ("simple",)
 FRAMES_PER_SECOND = 30
+CFL = 1.0
+"""Courant number of the coupled steps ``rollout`` takes."""
+
+SMALLEST_STEP = 1e-3
+"""A CFL step below this fraction of ``dt`` means the flow has blown up."""
 
 
 class SimulationDiverged(RuntimeError):
@@ -54,9 +73,11 @@ class Scene:
         model: the creature.
         dynamics: its MuJoCo adapter.
         fluid: 'none' (vacuum) for now.
-        grid: the fluid grid centred on the creature, or None when no
-            resolution and cell size are known (a bare model in vacuum).
+        grid: the fluid grid at the start, centred on the creature, or None
+            when no resolution and cell size are known (a bare model in vacuum).
         density: fluid density rho [kg/m^3] (water).
+        shape: the links' geometry for voxelizing (Euler fluid only).
+        area: a coupled face's area A [m^2] (Euler fluid only).
     """
 
     model: Model
@@ -64,6 +85,8 @@ class Scene:
     fluid: str = "none"
     grid: Grid | None = None
     density: float = 1000.0
+    shape: BodyShape | None = None
+    area: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,8 +99,10 @@ class State:
         qvel: (nv,) generalized velocities [m/s, rad/s].
         torque: (nv,) generalized force applied during the last step [N, N m].
         energy: (nv,) actuator work so far, the integral of |tau_i qd_i| dt [J].
+        steps: time steps taken so far.
         velocity: fluid face velocities (one array per axis) [m/s]; None in vacuum.
         pressure: fluid pressure at cell centres [Pa]; None in vacuum.
+        grid: where the fluid grid is now (it follows the creature); None in vacuum.
     """
 
     time: float
@@ -85,8 +110,10 @@ class State:
     qvel: np.ndarray
     torque: np.ndarray
     energy: np.ndarray
+    steps: int = 0
     velocity: tuple | None = None
     pressure: np.ndarray | None = None
+    grid: Grid | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,7 +148,7 @@ class Trajectory:
         time: (F,) [s].
         qpos: (F, nq), qvel: (F, nv), torque: (F, nv) [N m], energy: (F, nv) [J]
             cumulative actuator work per DOF.
-        dt: the simulation step used [s].
+        dt: the largest simulation step allowed [s] (fluid steps may be shorter).
         fps: frames per second.
         fluid: the fluid per frame, or None in vacuum.
     """
@@ -148,7 +175,8 @@ def make_scene(
         resolution: cells per axis, (nx, ny) in 2D or (nx, ny, nz) in 3D;
             default: the creature's.
         cell_size: h [m]; default: the creature's.
-        fluid: 'none' (vacuum). 'euler' and 'simple' are planned.
+        fluid: 'none' (vacuum) or 'euler' (the coupled inviscid fluid);
+            'simple' (drag only) is planned.
         origin: the grid's lower corner [m], one entry per axis; default: the
             grid is centred on the creature's centre of mass.
 
@@ -176,7 +204,15 @@ def make_scene(
             centre = dynamics.center_of_mass(model.qpos0)[: model.dim]
             origin = centre - np.asarray(resolution) * cell_size / 2
         grid = Grid(shape=resolution, cell_size=cell_size, origin=tuple(origin))
-    return Scene(model=model, dynamics=dynamics, fluid=fluid, grid=grid)
+    if fluid == "none":
+        return Scene(model=model, dynamics=dynamics, fluid=fluid, grid=grid)
+    if grid is None:
+        raise ValueError(
+            f"fluid {fluid!r} needs a grid: give resolution and cell_size for {model.source}"
+        )
+    shape = body_shape(model, grid.cell_size)
+    area = face_area(grid, model.depth)
+    return Scene(model, dynamics, fluid, grid, shape=shape, area=area)
 
 
 def _unpack_creature(obj):
@@ -215,30 +251,99 @@ def init_state(scene: Scene, qpos=None, qvel=None) -> State:
                     f"{norm:.6g}; it must be 1"
                 )
     zeros = np.zeros(model.nv)
-    return State(time=0.0, qpos=qpos, qvel=qvel, torque=zeros, energy=zeros.copy())
+    state = State(time=0.0, qpos=qpos, qvel=qvel, torque=zeros, energy=zeros.copy())
+    if scene.fluid == "none":
+        return state
+    grid = scene.grid
+    velocity = grid.zeros_velocity()
+    rigid_faces_(grid, velocity, _voxels(scene, grid, qpos), _point_velocity(scene, qpos, qvel))
+    return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
 
 
 def step(scene: Scene, state: State, dt: float, policy=None) -> State:
-    """Advance the scene by one step of ``dt`` [s] (paper Figure 2, vacuum so far).
+    """Advance the scene by one step of ``dt`` [s] (paper Figure 2).
 
     Args:
         scene: the fixed scene.
         state: the state at time t.
-        dt: time step [s].
+        dt: time step [s]; in a fluid it must respect the CFL limit (see
+            ``rollout``, which picks it).
         policy: the controller (see the module docstring); None for no actuation.
 
     Returns:
         The state at t + dt.
     """
     _check_dt(dt)
+    return _STEPPERS[scene.fluid](scene, state, dt, policy)
+
+
+def vacuum_step(scene: Scene, state: State, dt: float, policy=None) -> State:
+    """One step with no fluid: the body under its own joint forces."""
     tau, damping = servo_forces(scene, state, dt, policy)  # the stable PD: at t + dt
     qdd = predict_body(scene, state, dt, tau, damping)  # (M + dt Kd) qdd = tau - c
-    # (later: voxelize, advect, coupled pressure solve correct qvel here)
     qvel = state.qvel + dt * qdd
+    return _move_body(scene, state, dt, tau, damping, qvel)
+
+
+def euler_step(scene: Scene, state: State, dt: float, policy=None) -> State:
+    """One two-way coupled step in the inviscid fluid (module docstring, DESIGN.md §2.3)."""
+    grid, q = state.grid, state.qpos
+    grid.check_dt(state.velocity, dt)
+    voxels = _voxels(scene, grid, q)
+    advected = advect_velocity(grid, state.velocity, dt)
+    tau, damping = servo_forces(scene, state, dt, policy)
+    qvel_star = state.qvel + dt * predict_body(scene, state, dt, tau, damping)
+    solved = _coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping)
+    rigid_faces_(grid, solved.velocity, voxels, _point_velocity(scene, q, solved.qvel))
+    moved = _move_body(scene, state, dt, tau, damping, solved.qvel)
+    return _follow(scene, replace(moved, velocity=solved.velocity, pressure=solved.pressure))
+
+
+_STEPPERS = {"none": vacuum_step, "euler": euler_step}
+
+
+def _coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping):
+    dynamics, q = scene.dynamics, state.qpos
+    mass_t = dynamics.mass_matrix(q)
+    mass_t[np.diag_indices_from(mass_t)] += dt * damping
+    jacobians = dynamics.point_jacobians(q, voxels.face_center, voxels.face_link)
+    return solve_coupled(
+        state.grid, voxels, advected, qvel_star, mass_t, jacobians, dt, scene.density,
+        scene.area, pressure=state.pressure,
+    )  # fmt: skip
+
+
+def _move_body(scene: Scene, state: State, dt: float, tau, damping, qvel) -> State:
+    """``q^{n+1}`` from ``qd^{n+1}``, the force applied and the work done."""
     qpos = scene.dynamics.integrate(state.qpos, qvel, dt)
-    torque, energy = account_work(state, dt, tau, damping, qdd, qvel)
-    new = replace(state, time=state.time + dt, qpos=qpos, qvel=qvel, torque=torque, energy=energy)
+    torque, energy = account_work(state, dt, tau, damping, qvel)
+    new = replace(
+        state, time=state.time + dt, qpos=qpos, qvel=qvel, torque=torque, energy=energy,
+        steps=state.steps + 1,
+    )  # fmt: skip
     return _check_finite(scene, new)
+
+
+def _voxels(scene: Scene, grid: Grid, q) -> Voxels:
+    return voxelize(scene.shape, grid, *scene.dynamics.link_poses(q))
+
+
+def _point_velocity(scene: Scene, q, qd):
+    """The rigid velocity of points moving with links: the body-to-fluid seam."""
+    return lambda points, links: scene.dynamics.point_velocities(q, qd, points, links)
+
+
+def _follow(scene: Scene, state: State) -> State:
+    """Shift the grid by whole cells when the creature nears a wall (paper §6)."""
+    grid = state.grid
+    centre = scene.dynamics.center_of_mass(state.qpos)[: grid.dim]
+    cells = recentre_offset(grid, centre, margin=min(grid.extent) / 4)
+    if not any(cells):
+        return state
+    moved, velocity, pressure = shift(grid, state.velocity, cells, state.pressure)
+    rigid_faces_(moved, velocity, _voxels(scene, moved, state.qpos),
+                 _point_velocity(scene, state.qpos, state.qvel))  # fmt: skip
+    return replace(state, grid=moved, velocity=velocity, pressure=pressure)
 
 
 def servo_forces(scene: Scene, state: State, dt: float, policy) -> tuple[np.ndarray, np.ndarray]:
@@ -284,42 +389,57 @@ def predict_body(scene: Scene, state: State, dt: float, tau, damping) -> np.ndar
     return qdd
 
 
-def account_work(state: State, dt: float, tau, damping, qdd, qvel):
+def account_work(state: State, dt: float, tau, damping, qvel):
     """The force applied over the step and the energy so far, each (nv,).
 
-    The implicit damping adds ``-dt Kd qdd`` to the policy's force; the work
-    is counted as ``|tau_i qd_i| dt`` with the velocity that moves the
-    positions, so spending and braking both cost (DESIGN.md §2.4, E_energy).
+    The implicit damping adds ``-Kd (qd^{n+1} - qd^n)`` to the policy's force
+    (``-dt Kd qdd``); the work is counted as ``|tau_i qd_i| dt`` with the
+    velocity that moves the positions, so spending and braking both cost
+    (DESIGN.md §2.4, E_energy).
     """
-    applied = tau - dt * damping * qdd
+    applied = tau - damping * (qvel - state.qvel)
     return applied, state.energy + dt * np.abs(applied * qvel)
 
 
 def rollout(
-    scene: Scene, state: State, policy, seconds: float, dt: float = 1 / 300, fps=FRAMES_PER_SECOND
+    scene: Scene,
+    state: State,
+    policy,
+    seconds: float,
+    dt: float = 1 / 300,
+    fps=FRAMES_PER_SECOND,
+    progress=None,
 ) -> Trajectory:
     """Simulate ``seconds`` [s] from ``state`` and sample frames.
 
     Args:
         scene, state, policy: as for ``step``.
         seconds: duration [s].
-        dt: largest time step [s]; the step used is the largest that is <= dt
-            and divides one frame, so frames fall exactly on k / fps.
+        dt: largest time step [s]. In a fluid, steps also keep to the CFL
+            limit (the fastest fluid or body surface moves at most one cell).
+            Steps are shortened so that frames fall exactly on k / fps.
         fps: frames per second recorded (DESIGN.md: 30).
+        progress: optional ``progress(frames_done, frames_total)``, called
+            after every frame (for progress bars).
 
     Returns:
-        The trajectory, ``round(seconds * fps) + 1`` frames including the start.
+        The trajectory, ``round(seconds * fps) + 1`` frames including the start;
+        in a fluid it carries the fluid plane of every frame.
+    Raises:
+        SimulationDiverged: the state stopped being finite, or the flow grew so
+            fast that the CFL step fell below ``SMALLEST_STEP * dt``.
     """
     _check_dt(dt)
     if not seconds >= 0:
         raise ValueError(f"seconds must be >= 0, got {seconds}")
-    substeps = int(np.ceil((1.0 / fps) / dt - 1e-9))
-    dt = 1.0 / fps / substeps
+    total = int(round(seconds * fps))
+    start = state.time
     frames = [state]
-    for _ in range(int(round(seconds * fps))):
-        for _ in range(substeps):
-            state = step(scene, state, dt, policy)
+    for k in range(1, total + 1):
+        state = advance(scene, state, policy, start + k / fps, dt)
         frames.append(state)
+        if progress is not None:
+            progress(k, total)
     return Trajectory(
         time=np.array([s.time for s in frames]),
         qpos=np.stack([s.qpos for s in frames]),
@@ -328,6 +448,53 @@ def rollout(
         energy=np.stack([s.energy for s in frames]),
         dt=dt,
         fps=float(fps),
+        fluid=None if scene.fluid == "none" else _fluid_frames(scene, frames),
+    )
+
+
+def advance(scene: Scene, state: State, policy, end: float, dt: float = 1 / 300) -> State:
+    """Step until time ``end`` [s] with steps no longer than ``dt`` or the CFL limit.
+
+    The steps before each re-evaluation of the CFL limit are equal, so the
+    last one lands exactly on ``end``. Raises ``SimulationDiverged`` as ``rollout``.
+    """
+    while end - state.time > 1e-12 * max(1.0, end):
+        longest = dt
+        if state.velocity is not None:
+            longest = state.grid.cfl_dt(state.velocity, cfl=CFL, max_dt=dt)
+            if longest < SMALLEST_STEP * dt:
+                raise SimulationDiverged(
+                    f"simulation diverged at t = {state.time:.4g} s: the fluid reached "
+                    f"{max_speed(state.velocity):.3g} m/s, which would need steps of "
+                    f"{longest:.2g} s; lower the gait's amplitude or the PD gains, or "
+                    "refine the grid"
+                )
+        count = int(np.ceil((end - state.time) / longest - 1e-9))
+        state = step(scene, state, (end - state.time) / count, policy)
+    return replace(state, time=end)  # no round-off drift between frames
+
+
+def _fluid_frames(scene: Scene, frames: list[State]) -> FluidFrames:
+    """The fluid plane of every frame: the whole grid in 2D, the mid-plane z in 3D."""
+    origins, velocities, solids = [], [], []
+    for state in frames:
+        grid = state.grid
+        centred = cell_centered(grid, state.velocity)
+        solid = _voxels(scene, grid, state.qpos).solid
+        if grid.dim == 3:
+            k = grid.shape[2] // 2
+            centred, solid = centred[:2, :, :, k], solid[:, :, k]
+        origins.append(grid.origin[:2])
+        velocities.append(centred)
+        solids.append(solid)
+    grid = frames[-1].grid
+    plane_z = grid.origin[2] + (grid.shape[2] // 2 + 0.5) * grid.cell_size if grid.dim == 3 else 0
+    return FluidFrames(
+        cell_size=grid.cell_size,
+        origin=np.array(origins),
+        velocity=np.stack(velocities).astype(np.float32),
+        solid=np.stack(solids),
+        plane_z=float(plane_z),
     )
 
 
