@@ -180,30 +180,34 @@ def rigid_faces_(
 
     Coupled faces so get the body's normal velocity (step 3 of the module
     docstring); faces inside the body carry it too, so that advection near
-    the body interpolates sensible values. A face between two solid cells of
-    different links takes the link of its upper cell.
+    the body interpolates sensible values. A face between solid cells of two
+    links takes the mean of both links' velocities there (no side is
+    preferred, so a mirror-symmetric body stays symmetric).
     """
     for axis, component in enumerate(velocity):
-        index, links = _faces_touching_solid(voxels, axis)
-        if len(links) == 0:
+        index, lo, hi = _faces_touching_solid(voxels, axis)
+        if len(index) == 0:
             continue
         centres = np.column_stack([c[tuple(index.T)] for c in grid.face_centers(axis)])
-        points = np.zeros((len(links), 3))
+        points = np.zeros((len(index), 3))
         points[:, : grid.dim] = centres
-        component[tuple(index.T)] = point_velocity(points, links)[:, axis]
+        lo, hi = np.where(lo >= 0, lo, hi), np.where(hi >= 0, hi, lo)
+        both = np.concatenate([lo, hi])
+        speeds = point_velocity(np.concatenate([points, points]), both)[:, axis]
+        component[tuple(index.T)] = 0.5 * (speeds[: len(lo)] + speeds[len(lo) :])
 
 
-def _faces_touching_solid(voxels: Voxels, axis: int) -> tuple[np.ndarray, np.ndarray]:
-    """Indices (n, dim) of faces normal to ``axis`` next to a solid cell, and their links."""
+def _faces_touching_solid(voxels: Voxels, axis: int):
+    """Faces normal to ``axis`` next to a solid cell: indices (n, dim), and the
+    owner links of the cells below and above each (-1 where fluid or outside)."""
     owner = voxels.owner
     widths = [(0, 0)] * owner.ndim
     widths[axis] = (1, 1)
     padded = np.pad(owner, widths, constant_values=-1)
     lo = np.take(padded, range(0, owner.shape[axis] + 1), axis=axis)
     hi = np.take(padded, range(1, owner.shape[axis] + 2), axis=axis)
-    link = np.where(hi >= 0, hi, lo)
-    index = np.argwhere(link >= 0)
-    return index, link[tuple(index.T)]
+    index = np.argwhere((lo >= 0) | (hi >= 0))
+    return index, lo[tuple(index.T)], hi[tuple(index.T)]
 
 
 def _per_cell(grid: Grid, voxels: Voxels, per_face: np.ndarray) -> np.ndarray:
