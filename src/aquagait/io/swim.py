@@ -1,0 +1,208 @@
+"""Swim a library creature with a gait and keep the run on disk (DESIGN.md §1 step 3, §5).
+
+    setup = prepare_swim("eel2d", gait="runs/eel2d/gait.json", seconds=2.0)
+    run = run_swim(setup, progress=lambda done, total: ...)
+    write_swim(run, "runs/eel2d")   # config.json, gait.json, trajectory.npz, metrics.json
+
+``prepare_swim`` resolves and checks every setting before anything is
+simulated and fails with a ``SwimSetupError`` that says what was wrong;
+``run_swim`` simulates and measures; ``write_swim`` writes the run directory.
+The video is ``aquagait.viz.render_swim``'s business (viz sits above io).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+
+from aquagait import creatures
+from aquagait.creatures import Creature
+from aquagait.io.gait import GaitFileError, read_gait, write_gait
+from aquagait.io.run import library_versions, write_run
+from aquagait.metrics import stroke_metrics, travel_metrics
+from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
+
+
+class SwimSetupError(ValueError):
+    """A swim cannot start: unknown creature, bad gait file, bad grid or fluid."""
+
+
+@dataclass(frozen=True, eq=False)
+class SwimSetup:
+    """Everything a swim needs, resolved and checked.
+
+    Attributes:
+        creature: the library creature.
+        params: (n,) gait parameter vector (``creature.gait.names``).
+        gait_source: 'default' or the gait file it came from.
+        scene: the scene (fluid, grid).
+        seconds: simulated time [s].
+        dt: largest time step [s], or None for ``rollout``'s default.
+        fps: frames per second recorded.
+    """
+
+    creature: Creature
+    params: np.ndarray
+    gait_source: str
+    scene: Scene
+    seconds: float
+    dt: float | None = None
+    fps: float = FRAMES_PER_SECOND
+
+    @property
+    def period(self) -> float:
+        """The gait's cycle T [s] (the longest, if the DOFs' periods differ)."""
+        return float(np.max(self.creature.gait.unpack(self.params).period))
+
+
+@dataclass(frozen=True, eq=False)
+class SwimRun:
+    """A finished swim: its ``setup``, ``trajectory``, ``metrics`` and resolved ``config``.
+
+    ``notes`` says what could not be measured (e.g. a swim shorter than a cycle
+    has no Strouhal number).
+    """
+
+    setup: SwimSetup
+    trajectory: Trajectory
+    metrics: dict
+    config: dict
+    notes: tuple[str, ...] = field(default=())
+
+
+def prepare_swim(
+    name: str,
+    gait=None,
+    seconds: float = 2.0,
+    fluid: str = "euler",
+    resolution=None,
+    cell_size: float | None = None,
+    dt: float | None = None,
+    fps: float = FRAMES_PER_SECOND,
+) -> SwimSetup:
+    """Resolve a swim's settings: creature, gait, scene.
+
+    Args:
+        name: a library creature (``aquagait.creatures.names()``).
+        gait: a ``gait.json`` path, a parameter vector, or None for the
+            creature's default gait.
+        seconds: simulated time [s], > 0.
+        fluid: 'euler', 'simple' or 'none' (see ``aquagait.make_scene``).
+        resolution: cells per axis, default the creature's.
+        cell_size: h [m], default the creature's.
+        dt: largest time step [s], default ``rollout``'s.
+        fps: frames per second recorded.
+
+    Raises:
+        SwimSetupError: the message says which setting is wrong and what would be right.
+    """
+    try:
+        creature = creatures.get(name)
+    except creatures.UnknownCreatureError as err:
+        raise SwimSetupError(str(err)) from None
+    if isinstance(gait, str | Path):
+        try:
+            params, source = read_gait(gait, creature).params, str(gait)
+        except GaitFileError as err:
+            raise SwimSetupError(str(err)) from None
+    else:
+        params = creature.default_gait if gait is None else np.asarray(gait, dtype=float)
+        source = "default" if gait is None else "given"
+        if params.shape != (creature.gait.size,):
+            raise SwimSetupError(
+                f"{name} has {creature.gait.size} gait parameters "
+                f"({', '.join(creature.gait.names)}); got {params.size}"
+            )
+    for value, what in ((seconds, "seconds"), (fps, "fps")) + ((dt, "dt"),) * (dt is not None):
+        if not (np.isfinite(value) and value > 0):
+            raise SwimSetupError(f"{what} must be a positive number, got {value!r}")
+    try:
+        scene = make_scene(creature, resolution=resolution, cell_size=cell_size, fluid=fluid)
+    except ValueError as err:
+        raise SwimSetupError(str(err)) from None
+    return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps))
+
+
+def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
+    """Simulate the swim from the reference pose at rest and measure it.
+
+    Args:
+        setup: from ``prepare_swim``.
+        progress: optional ``progress(frames_done, frames_total)`` after every frame.
+
+    Raises:
+        aquagait.sim.SimulationDiverged: the simulation blew up (time and place in the message).
+    """
+    creature, scene = setup.creature, setup.scene
+    policy = creature.policy(setup.params)
+    steps = {} if setup.dt is None else {"dt": setup.dt}
+    trajectory = rollout(
+        scene, init_state(scene), policy, setup.seconds, fps=setup.fps, progress=progress, **steps
+    )
+    metrics = travel_metrics(creature.model, trajectory, setup.period)
+    notes = ()
+    if trajectory.time[-1] - trajectory.time[0] >= setup.period * (1 - 1e-9):
+        metrics.update(stroke_metrics(creature.model, trajectory, setup.period))
+    else:
+        notes = (
+            f"the swim is shorter than one gait cycle ({setup.period:g} s): "
+            "no tail amplitude or Strouhal number",
+        )
+    return SwimRun(setup, trajectory, metrics, swim_config(setup, trajectory), notes)
+
+
+def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
+    """Every resolved setting of a swim, for ``config.json``."""
+    creature, grid = setup.creature, setup.scene.grid
+    return {
+        "command": "swim",
+        "creature": creature.name,
+        "dim": creature.dim,
+        "gait": {
+            "source": setup.gait_source,
+            "names": list(creature.gait.names),
+            "params": setup.params,
+        },
+        "period": setup.period,
+        "seconds": setup.seconds,
+        "fluid": setup.scene.fluid,
+        "density": setup.scene.density,
+        "resolution": None if grid is None else list(grid.shape),
+        "cell_size": None if grid is None else grid.cell_size,
+        "grid_origin": None if grid is None else list(grid.origin),
+        "dt": trajectory.dt,
+        "fps": trajectory.fps,
+        "frames": len(trajectory.time),
+        "pd": {"natural_frequency": creature.natural_frequency, "damping": creature.damping_ratio},
+        "seed": None,  # a swim is deterministic
+        "versions": library_versions(),
+        "created": datetime.now(UTC).isoformat(timespec="seconds"),
+    }
+
+
+def write_swim(run: SwimRun, out) -> Path:
+    """Write the run directory: config.json, gait.json, trajectory.npz and metrics.json."""
+    creature = run.setup.creature
+    out = write_run(out, run.trajectory, run.config, run.metrics, model=creature.model)
+    write_gait(out / "gait.json", creature, run.setup.params)
+    return out
+
+
+def swim_summary(run: SwimRun, out=None) -> str:
+    """A few lines for people: how far and fast, at what cost, where the files are."""
+    m, setup = run.metrics, run.setup
+    lines = [
+        f"{setup.creature.name} swam {m['distance']:.3f} m in {m['duration']:.2f} s "
+        f"({setup.scene.fluid} fluid): {m['speed']:.3f} m/s, "
+        f"{m['body_lengths_per_cycle']:.2f} body lengths per cycle",
+        f"energy {m['energy']:.3g} J, cost of transport {m['cost_of_transport']:.3g} J/(kg m)"
+        + (f", Strouhal number {m['strouhal']:.3g}" if "strouhal" in m else ""),
+        *run.notes,
+    ]
+    if out is not None:
+        files = sorted(p.name for p in Path(out).iterdir() if p.is_file())
+        lines.append(f"wrote {out}{'/' if not str(out).endswith('/') else ''}: {', '.join(files)}")
+    return "\n".join(lines)
