@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
+from pathlib import Path
 
 import aquagait
 
@@ -20,6 +22,64 @@ def _cmd_creatures(args) -> int:
 
     print(creatures.format_table())
     return 0
+
+
+def _cmd_swim(args) -> int:
+    from aquagait.io import SwimSetupError, prepare_swim, run_swim, swim_summary, write_swim
+    from aquagait.sim import SimulationDiverged
+
+    try:
+        setup = prepare_swim(
+            args.name,
+            gait=args.gait,
+            seconds=args.seconds,
+            fluid=args.fluid,
+            resolution=args.resolution,
+            cell_size=args.cell_size,
+        )
+    except SwimSetupError as err:
+        return _fail("swim", err, status=2)
+    try:
+        run = run_swim(setup, progress=ProgressBar("swimming"))
+    except SimulationDiverged as err:
+        return _fail("swim", err, status=1)
+    out = write_swim(run, args.out or Path("runs") / args.name)
+    if not args.no_video:
+        from aquagait.viz import render_swim
+
+        render_swim(
+            run.trajectory,
+            setup.creature.model,
+            out / "swim.mp4",
+            progress=ProgressBar("rendering"),
+        )
+    print(swim_summary(run, out))
+    return 0
+
+
+class ProgressBar:
+    """``progress(done, total)`` drawn as a one-line text bar on stderr, redrawn in place."""
+
+    def __init__(self, label: str, width: int = 30, stream=None):
+        self.label, self.width, self.stream = label, width, stream or sys.stderr
+        self.start = time.perf_counter()
+
+    def __call__(self, done: int, total: int) -> None:
+        filled = self.width * done // max(total, 1)
+        elapsed = time.perf_counter() - self.start
+        bar = "#" * filled + "-" * (self.width - filled)
+        end = "\n" if done >= total else ""
+        print(
+            f"\r{self.label} [{bar}] {done}/{total} frames {elapsed:.1f} s",
+            end=end,
+            file=self.stream,
+            flush=True,
+        )
+
+
+def _fail(command: str, err: Exception, status: int) -> int:
+    print(f"aquagait {command}: error: {err}", file=sys.stderr)
+    return status
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -39,6 +99,25 @@ def build_parser() -> argparse.ArgumentParser:
 
     creatures = commands.add_parser("creatures", help="list the creature library")
     creatures.set_defaults(run=_cmd_creatures)
+
+    swim = commands.add_parser(
+        "swim", help="swim a creature with a gait; write trajectory, metrics and video"
+    )
+    swim.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
+    swim.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
+    swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
+    swim.add_argument("--fluid", choices=["euler", "simple", "none"], default="euler")
+    swim.add_argument(
+        "--resolution",
+        type=int,
+        nargs="+",
+        metavar="N",
+        help="cells per axis: NX NY (2D) or NX NY NZ (3D)",
+    )
+    swim.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
+    swim.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME)")
+    swim.add_argument("--no-video", action="store_true", help="skip swim.mp4")
+    swim.set_defaults(run=_cmd_swim)
     return parser
 
 

@@ -1,0 +1,111 @@
+"""The command line: ``aquagait swim`` writes a run directory; mistakes get a message, status 2."""
+
+import json
+
+import imageio.v2 as imageio
+import pytest
+
+from aquagait.cli import ProgressBar, main
+from aquagait.io import read_run
+
+FILES = {"config.json", "gait.json", "trajectory.npz", "metrics.json"}
+
+
+def test_swim_writes_a_run_directory_and_a_summary(tmp_path, capsys):
+    out = tmp_path / "eel"
+    status = main(
+        ["swim", "eel2d", "--fluid", "none", "--seconds", "0.2", "--no-video", "--out", str(out)]
+    )
+    captured = capsys.readouterr()
+    assert status == 0, captured.err
+    assert {p.name for p in out.iterdir()} == FILES
+    assert "eel2d swam" in captured.out and "body lengths per cycle" in captured.out
+    assert "shorter than one gait cycle" in captured.out and str(out) in captured.out
+    assert "swimming [" in captured.err and "6/6 frames" in captured.err
+    run = read_run(out)
+    assert run.config["seconds"] == 0.2 and run.config["fluid"] == "none"
+    assert len(run.trajectory.time) == 7
+
+
+def test_swim_in_the_fluid_with_a_gait_file_and_a_video(tmp_path, capsys):
+    first = tmp_path / "first"
+    assert (
+        main(
+            [
+                "swim",
+                "eel2d",
+                "--fluid",
+                "none",
+                "--seconds",
+                "0.1",
+                "--no-video",
+                "--out",
+                str(first),
+            ]
+        )
+        == 0
+    )
+    gait = json.loads((first / "gait.json").read_text())
+    gait["params"] = [0.5 * p for p in gait["params"]]
+    (tmp_path / "half.json").write_text(json.dumps(gait))
+    out = tmp_path / "second"
+    status = main(
+        [
+            "swim",
+            "eel2d",
+            "--seconds",
+            "0.1",
+            "--gait",
+            str(tmp_path / "half.json"),
+            "--resolution",
+            "32",
+            "16",
+            "--cell-size",
+            "0.04",
+            "--out",
+            str(out),
+        ]
+    )
+    assert status == 0, capsys.readouterr().err
+    run = read_run(out)
+    assert run.config["fluid"] == "euler" and run.trajectory.fluid.velocity.shape[2:] == (32, 16)
+    assert run.config["gait"]["params"] == gait["params"] and run.config["resolution"] == [32, 16]
+    assert run.config["cell_size"] == 0.04
+    with imageio.get_reader(out / "swim.mp4") as video:
+        assert video.count_frames() == 4
+    assert "rendering [" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "argv,message",
+    [
+        (["swim", "eal"], "unknown creature 'eal'; known creatures: eel2d, fish"),
+        (["swim", "eel2d", "--gait", "missing.json"], "gait file missing.json does not exist"),
+        (["swim", "eel2d", "--fluid", "none", "--resolution", "8", "8", "8"], "has 3 entries"),
+        (["swim", "fish", "--fluid", "none", "--resolution", "8", "8"], "give (nx, ny, nz)"),
+        (["swim", "eel2d", "--seconds", "-1", "--fluid", "none"], "seconds must be a positive"),
+    ],
+)
+def test_swim_mistakes_get_a_message_and_status_2(tmp_path, capsys, argv, message):
+    assert main([*argv, "--out", str(tmp_path / "run")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("aquagait swim: error: ") and message in err
+    assert "Traceback" not in err and not (tmp_path / "run").exists()
+
+
+def test_a_bad_gait_file_names_the_fix(tmp_path, capsys):
+    bad = tmp_path / "gait.json"
+    bad.write_text(json.dumps({"creature": "eel2d", "names": ["a"], "params": [1.0]}))
+    assert main(["swim", "eel2d", "--fluid", "none", "--gait", str(bad)]) == 2
+    assert "has 1 gait parameters; eel2d has 8: amplitude[j1]" in capsys.readouterr().err
+
+
+def test_the_progress_bar_redraws_one_line():
+    import io
+
+    stream = io.StringIO()
+    bar = ProgressBar("swimming", width=10, stream=stream)
+    for done in range(1, 5):
+        bar(done, 4)
+    text = stream.getvalue()
+    assert text.count("\r") == 4 and text.endswith("\n") and "[##########] 4/4 frames" in text
