@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 import aquagait
+from aquagait.bench import BENCHMARKS
 
 
 def _cmd_bench(args) -> int:
@@ -93,7 +94,7 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     bench = commands.add_parser("bench", help="measure speed against in-run baselines")
-    bench.add_argument("what", choices=["fluid"], help="which benchmark to run")
+    bench.add_argument("what", choices=BENCHMARKS, help="which benchmark to run")
     bench.add_argument("--repeats", type=int, default=10, help="timed repetitions per case")
     bench.set_defaults(run=_cmd_bench)
 

@@ -7,7 +7,7 @@ import os
 import sys
 from typing import TextIO
 
-BENCHMARKS = ("fluid",)
+BENCHMARKS = ("fluid", "swim")
 
 
 def run_benchmark(what: str, repeats: int = 10, out: TextIO = sys.stdout) -> list[dict]:
@@ -25,9 +25,9 @@ def run_benchmark(what: str, repeats: int = 10, out: TextIO = sys.stdout) -> lis
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
     _pin_to_one_core(out)
-    from aquagait.bench import fluid
+    from aquagait.bench import fluid, swim
 
-    return fluid.run(repeats=repeats, out=out)
+    return {"fluid": fluid, "swim": swim}[what].run(repeats=repeats, out=out)
 
 
 def _pin_to_one_core(out: TextIO) -> None:

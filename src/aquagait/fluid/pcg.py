@@ -88,15 +88,21 @@ class PressureSystem:
         return PressureSystem(self.shape, self.solid, self.hierarchy, low_rank)
 
 
-def pressure_system(solid: np.ndarray, low_rank: LowRank | None = None) -> PressureSystem:
+def pressure_system(
+    solid: np.ndarray, low_rank: LowRank | None = None, sealed: bool = False
+) -> PressureSystem:
     """Build the pressure operator for a set of solid cells.
 
     Args:
         solid: boolean cell mask, ``(nx, ny)`` or ``(nx, ny, nz)``. Fluid that
             cannot reach the open boundary is sealed (treated as solid).
         low_rank: optional extra SPD term (two-way coupling).
+        sealed: the caller has sealed the pockets already (skips a flood fill
+            over the whole grid).
     """
-    solid = seal_pockets(np.asarray(solid, dtype=bool))
+    solid = np.asarray(solid, dtype=bool)
+    if not sealed:
+        solid = seal_pockets(solid)
     return PressureSystem(solid.shape, solid, build_hierarchy(solid)).with_low_rank(low_rank)
 
 
