@@ -9,6 +9,7 @@ from pathlib import Path
 
 import aquagait
 from aquagait.bench import BENCHMARKS
+from aquagait.sim import FLUIDS_NOW
 
 
 def _cmd_bench(args) -> int:
@@ -107,7 +108,7 @@ def build_parser() -> argparse.ArgumentParser:
     swim.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
     swim.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
     swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
-    swim.add_argument("--fluid", choices=["euler", "simple", "none"], default="euler")
+    swim.add_argument("--fluid", choices=FLUIDS_NOW, default="euler")
     swim.add_argument(
         "--resolution",
         type=int,
