@@ -1,9 +1,11 @@
 """Swimming in the Euler fluid: a travelling wave propels, symmetry holds (paper §3, §7)."""
 
 import numpy as np
+import pytest
 
 import aquagait as ag
 from aquagait.control import GaitSpec, StablePD
+from aquagait.sim import SimulationDiverged
 
 # 2D, mirror-symmetric about the x axis: a body with two legs whose hinges
 # are mirrored, so a mirrored gait moves it symmetrically
@@ -64,3 +66,16 @@ def test_fish_with_a_tail_beat_swims_forward_in_3d():
     # measured 7.7 mm forward and 0.3 mm sideways: slow from rest at 1 Hz, but steady
     assert forward > 0.05 * fish.model.body_length
     assert sideways < forward / 4
+
+
+def test_a_run_that_blows_up_says_when_and_how_fast_instead_of_writing_nans():
+    eel = ag.creatures.get("eel2d")
+    scene = ag.make_scene(eel, (64, 32), 0.02, fluid="euler")
+
+    def flail(t, q, qd):  # a joint torque no eel has: 1 kN m
+        tau = np.zeros(eel.model.nv)
+        tau[eel.model.actuated_dofs] = 1e3
+        return tau
+
+    with pytest.raises(SimulationDiverged, match=r"diverged at t = [\d.]+ s: the fluid reached"):
+        ag.rollout(scene, ag.init_state(scene), flail, seconds=1.0)

@@ -477,8 +477,8 @@ def advance(scene: Scene, state: State, policy, end: float, dt: float | None = N
                 raise SimulationDiverged(
                     f"simulation diverged at t = {state.time:.4g} s: the fluid reached "
                     f"{max_speed(state.velocity):.3g} m/s, which would need steps of "
-                    f"{longest:.2g} s; lower the gait's amplitude or the PD gains, or "
-                    "refine the grid"
+                    f"{longest:.2g} s; lower the torques (the gait's amplitudes or the "
+                    "PD gains), or check the model's masses"
                 )
         count = int(np.ceil((end - state.time) / longest - 1e-9))
         state = step(scene, state, (end - state.time) / count, policy)
