@@ -60,23 +60,32 @@ def _cmd_swim(args) -> int:
 
 
 class ProgressBar:
-    """``progress(done, total)`` drawn as a one-line text bar on stderr, redrawn in place."""
+    """``progress(done, total)`` drawn as a one-line text bar on stderr.
+
+    On a terminal the bar is redrawn in place every call; into a file or a
+    pipe (logs, CI) it is written as a new line at every tenth of the work.
+    """
 
     def __init__(self, label: str, width: int = 30, stream=None):
         self.label, self.width, self.stream = label, width, stream or sys.stderr
         self.start = time.perf_counter()
+        self.live = getattr(self.stream, "isatty", lambda: False)()
+        self.shown = -1
 
     def __call__(self, done: int, total: int) -> None:
+        tenth = 10 * done // max(total, 1)
+        if not self.live and tenth == self.shown:
+            return
+        self.shown = tenth
         filled = self.width * done // max(total, 1)
         elapsed = time.perf_counter() - self.start
         bar = "#" * filled + "-" * (self.width - filled)
-        end = "\n" if done >= total else ""
-        print(
-            f"\r{self.label} [{bar}] {done}/{total} frames {elapsed:.1f} s",
-            end=end,
-            file=self.stream,
-            flush=True,
-        )
+        line = f"{self.label} [{bar}] {done}/{total} frames {elapsed:.1f} s"
+        if self.live:
+            end = "\n" if done >= total else ""
+            print(f"\r{line}", end=end, file=self.stream, flush=True)
+        else:
+            print(line, file=self.stream, flush=True)
 
 
 def _fail(command: str, err: Exception, status: int) -> int:
