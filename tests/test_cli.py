@@ -100,12 +100,28 @@ def test_a_bad_gait_file_names_the_fix(tmp_path, capsys):
     assert "has 1 gait parameters; eel2d has 8: amplitude[j1]" in capsys.readouterr().err
 
 
-def test_the_progress_bar_redraws_one_line():
+def test_the_progress_bar_redraws_one_line_on_a_terminal():
     import io
 
-    stream = io.StringIO()
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    stream = Terminal()
     bar = ProgressBar("swimming", width=10, stream=stream)
     for done in range(1, 5):
         bar(done, 4)
     text = stream.getvalue()
     assert text.count("\r") == 4 and text.endswith("\n") and "[##########] 4/4 frames" in text
+
+
+def test_the_progress_bar_writes_a_line_per_tenth_into_a_log():
+    import io
+
+    stream = io.StringIO()
+    bar = ProgressBar("swimming", width=10, stream=stream)
+    for done in range(1, 101):
+        bar(done, 100)
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 11 and "\r" not in stream.getvalue()  # the start, then each tenth
+    assert lines[-1].startswith("swimming [##########] 100/100 frames")
