@@ -415,6 +415,7 @@ def rollout(
     dt: float | None = None,
     fps=FRAMES_PER_SECOND,
     progress=None,
+    record_fluid: bool = True,
 ) -> Trajectory:
     """Simulate ``seconds`` [s] from ``state`` and sample frames.
 
@@ -428,6 +429,8 @@ def rollout(
         fps: frames per second recorded (DESIGN.md: 30).
         progress: optional ``progress(frames_done, frames_total)``, called
             after every frame (for progress bars).
+        record_fluid: keep the fluid plane of every frame (for pictures);
+            off when only the body matters, as in optimization.
 
     Returns:
         The trajectory, ``round(seconds * fps) + 1`` frames including the start;
@@ -456,7 +459,7 @@ def rollout(
         energy=np.stack([s.energy for s in frames]),
         dt=dt,
         fps=float(fps),
-        fluid=None if scene.fluid == "none" else _fluid_frames(scene, frames),
+        fluid=_fluid_frames(scene, frames) if record_fluid and scene.fluid != "none" else None,
     )
 
 

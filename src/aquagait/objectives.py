@@ -1,0 +1,131 @@
+"""The swimming objective: a trajectory in, one number out (paper §4, DESIGN.md §2.4).
+
+Over a run of (by default) two gait cycles, minimized:
+
+    E = E_distance + w_dev E_deviation + w_energy(E) E_energy + w_col E_collision
+
+- ``E_distance = -d . dp``: the root's displacement ``dp`` along the desired
+  direction ``d`` (a unit vector), negated [m].
+- ``E_deviation = |dp - (d . dp) d| + |dtheta|``: sideways drift [m] plus the
+  root's change of orientation as an exponential map (its angle) [rad].
+- ``E_energy``: actuator work, the integral of ``sum_i |tau_i qd_i| dt`` [J];
+  its weight is 0 while the work stays below the creature's energy bound and
+  ``w_energy`` (1) above it, so that within the bound only speed counts.
+- ``E_collision``: the volume where non-adjacent links overlap, integrated
+  over time [m^3 s], from a lattice of about 100 points along the body.
+
+Each term is a function of a ``Trajectory``; weights and direction are
+``Weights`` and an argument. The units mix, as in the paper: the weights
+(0.2 and 100) were chosen for them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from aquagait.body.model import Model
+from aquagait.body.voxelize import BodyShape, overlap_volume
+from aquagait.control.pd import quat_conj, quat_log, quat_mul
+from aquagait.sim import Scene, Trajectory
+
+COLLISION_POINTS = 100
+"""Lattice points along the body's length for ``E_collision`` (about 100^3 over the creature)."""
+
+COLLISION_FRAME_STRIDE = 2
+"""Overlap is measured every this many frames (15 a second) and integrated."""
+
+
+@dataclass(frozen=True)
+class Weights:
+    """Weights of the objective's terms (paper §4 defaults).
+
+    Attributes:
+        deviation: of ``E_deviation``.
+        energy: of ``E_energy`` when the work exceeds the energy bound.
+        collision: of ``E_collision``.
+    """
+
+    deviation: float = 0.2
+    energy: float = 1.0
+    collision: float = 100.0
+
+
+def root_displacement(model: Model, traj: Trajectory) -> np.ndarray:
+    """The root link's displacement from the first to the last frame, (dim,) [m]."""
+    position = traj.qpos[:, : model.dim]
+    return position[-1] - position[0]
+
+
+def root_rotation(model: Model, traj: Trajectory) -> float:
+    """The angle of the root's change of orientation over the run [rad].
+
+    2D: the planar root's hinge angle changes; 3D: the norm of the rotation
+    vector (exponential map) of ``q_end q_start^-1``.
+    """
+    if model.dim == 2:
+        return float(abs(traj.qpos[-1, 2] - traj.qpos[0, 2]))
+    start, end = traj.qpos[0, 3:7], traj.qpos[-1, 3:7]
+    return float(np.linalg.norm(quat_log(quat_mul(end, quat_conj(start)))))
+
+
+def distance(model: Model, traj: Trajectory, direction) -> float:
+    """``E_distance = -d . dp`` [m]: more negative is farther along ``direction``."""
+    return -float(_unit(direction, model.dim) @ root_displacement(model, traj))
+
+
+def deviation(model: Model, traj: Trajectory, direction) -> float:
+    """``E_deviation = |dp - (d . dp) d| + |dtheta|``: drift [m] plus turning [rad]."""
+    d = _unit(direction, model.dim)
+    dp = root_displacement(model, traj)
+    return float(np.linalg.norm(dp - (d @ dp) * d)) + root_rotation(model, traj)
+
+
+def work(traj: Trajectory) -> float:
+    """Actuator work over the run, ``sum_i |tau_i qd_i| dt`` [J]."""
+    return float(traj.energy[-1].sum() - traj.energy[0].sum())
+
+
+def energy(traj: Trajectory, bound: float, weight: float = 1.0) -> float:
+    """``w2 E_energy``: the work [J] times 0 below ``bound`` [J] and ``weight`` above it."""
+    spent = work(traj)
+    return weight * spent if spent > bound else 0.0
+
+
+def collision(scene: Scene, traj: Trajectory, stride: int = COLLISION_FRAME_STRIDE) -> float:
+    """``E_collision``: overlap of non-adjacent links integrated over time [m^3 s]."""
+    shape = scene.shape if scene.shape is not None else _shape(scene)
+    spacing = scene.model.body_length / COLLISION_POINTS
+    frames = traj.qpos[::stride]
+    volumes = [overlap_volume(shape, *scene.dynamics.link_poses(q), spacing) for q in frames]
+    return float(np.sum(volumes) * stride / traj.fps)
+
+
+def total(
+    scene: Scene,
+    traj: Trajectory,
+    direction,
+    energy_bound: float,
+    weights: Weights = Weights(),  # noqa: B008 (frozen)
+) -> float:
+    """The objective ``E`` of a run (module docstring)."""
+    model = scene.model
+    value = distance(model, traj, direction) + weights.deviation * deviation(model, traj, direction)
+    value += energy(traj, energy_bound, weights.energy)
+    if weights.collision:
+        value += weights.collision * collision(scene, traj)
+    return value
+
+
+def _unit(direction, dim: int) -> np.ndarray:
+    d = np.asarray(direction, dtype=float)
+    if d.shape != (dim,) or not np.linalg.norm(d) > 0:
+        raise ValueError(f"direction must be a nonzero vector of {dim} numbers, got {direction!r}")
+    return d / np.linalg.norm(d)
+
+
+def _shape(scene: Scene) -> BodyShape:
+    from aquagait.body.voxelize import body_shape
+
+    return body_shape(scene.model, scene.model.body_length / COLLISION_POINTS)

@@ -1,0 +1,99 @@
+"""The objective's terms on trajectories whose answers are known."""
+
+import numpy as np
+import pytest
+
+import aquagait as ag
+from aquagait import objectives as obj
+from aquagait.sim import Trajectory
+
+# three boxes in a chain whose middle hinge folds the tail back over the head
+FOLDING = """<mujoco><custom><numeric name="aquagait_depth" data="0.02"/></custom>
+  <worldbody><body name="head">
+    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
+    <joint type="hinge" axis="0 0 1"/>
+    <geom type="box" size=".05 .01 .01" density="1000"/>
+    <body name="mid" pos="-.05 0 0"><joint name="a" type="hinge" axis="0 0 1" range="-179 179"/>
+      <geom type="box" size=".005 .01 .01" pos="-.005 0 0" density="1000"/>
+      <body name="tail" pos="-.01 0 0"><joint name="b" type="hinge" axis="0 0 1" range="-179 179"/>
+        <geom type="box" size=".05 .01 .01" pos="-.05 0 0" density="1000"/></body>
+    </body>
+  </body></worldbody></mujoco>"""
+
+
+def trajectory(qpos, energy=None, fps=30.0):
+    qpos = np.asarray(qpos, dtype=float)
+    frames, nq = qpos.shape
+    nv = nq if energy is None else np.shape(energy)[1]
+    energy = np.zeros((frames, nv)) if energy is None else np.asarray(energy, dtype=float)
+    zeros = np.zeros((frames, nv))
+    time = np.arange(frames) / fps
+    return Trajectory(time, qpos, zeros, zeros, energy, 1 / 300, fps)
+
+
+@pytest.fixture(scope="module")
+def eel():
+    return ag.creatures.get("eel2d")
+
+
+def test_distance_is_the_displacement_along_the_direction(eel):
+    path = np.zeros((31, eel.model.nq))
+    path[:, 0] = np.linspace(0, 0.3, 31)  # 0.3 m along x
+    path[:, 1] = np.linspace(0, 0.1, 31)  # 0.1 m along y
+    traj = trajectory(path)
+    assert obj.distance(eel.model, traj, (1, 0)) == pytest.approx(-0.3)
+    assert obj.distance(eel.model, traj, (0, 2)) == pytest.approx(-0.1)  # direction is normalized
+    assert obj.deviation(eel.model, traj, (1, 0)) == pytest.approx(0.1)
+
+
+def test_deviation_adds_the_turn_in_2d_and_3d(eel):
+    path = np.zeros((2, eel.model.nq))
+    path[1, 2] = -0.25  # the eel turned 0.25 rad clockwise
+    assert obj.deviation(eel.model, trajectory(path), (1, 0)) == pytest.approx(0.25)
+    fish = ag.creatures.get("fish").model
+    path = np.tile(fish.qpos0, (2, 1))
+    angle = 0.4
+    path[1, 3:7] = [np.cos(angle / 2), 0, np.sin(angle / 2), 0]  # 0.4 rad about y
+    assert obj.root_rotation(fish, trajectory(path)) == pytest.approx(angle)
+
+
+def test_energy_counts_only_above_the_bound():
+    energy = np.outer(np.linspace(0, 1, 11), [0.0, 0.2, 0.3])  # 0.5 J spent in all
+    traj = trajectory(np.zeros((11, 3)), energy)
+    assert obj.work(traj) == pytest.approx(0.5)
+    assert obj.energy(traj, bound=0.6) == 0.0
+    assert obj.energy(traj, bound=0.4) == pytest.approx(0.5)
+
+
+def test_collision_integrates_the_overlap_of_non_adjacent_links():
+    model = ag.load_model(FOLDING)
+    scene = ag.make_scene(model, (32, 32), 0.005, fluid="euler")
+    straight = trajectory(np.tile(model.qpos0, (31, 1)))
+    assert obj.collision(scene, straight) == 0.0
+    folded = model.qpos0.copy()
+    folded[3:5] = [np.pi / 2, np.pi / 2]  # the tail folds back along the head, 1 cm lower
+    # head: x in [-0.05, 0.05], y in [-0.01, 0.01]; tail: the same x, y in [-0.02, 0]
+    exact = 0.1 * 0.01 * 0.02  # overlap: length x width x depth [m^3]
+    one_second = obj.collision(scene, trajectory(np.tile(folded, (31, 1))))
+    # the lattice (body length / 100 = 2.1 mm) puts five points across the 1 cm
+    # overlap: one point more or less is 20%, so within 15% (measured +13%)
+    assert one_second == pytest.approx(exact * 1.0, rel=0.15)
+
+
+def test_total_weighs_the_terms(eel):
+    scene = ag.make_scene(eel, fluid="euler")
+    path = np.tile(eel.model.qpos0, (31, 1))
+    path[:, 0] += np.linspace(0, 0.2, 31)
+    path[:, 1] += np.linspace(0, 0.05, 31)
+    energy = np.zeros((31, eel.model.nv))
+    energy[:, 3] = np.linspace(0, 2.0, 31)
+    traj = trajectory(path, energy)
+    value = obj.total(scene, traj, (1, 0), energy_bound=1.0)
+    assert value == pytest.approx(-0.2 + 0.2 * 0.05 + 2.0)
+    quiet = obj.total(scene, traj, (1, 0), energy_bound=5.0, weights=obj.Weights(deviation=0))
+    assert quiet == pytest.approx(-0.2)
+
+
+def test_direction_must_fit_the_dimension(eel):
+    with pytest.raises(ValueError, match="nonzero vector of 2 numbers"):
+        obj.distance(eel.model, trajectory(np.zeros((2, 7))), (1, 0, 0))
