@@ -1,0 +1,40 @@
+"""Gait optimization: CMA-ES over a black-box objective (paper §4).
+
+The optimizer knows nothing of physics (DESIGN.md §3): it minimizes
+`objective(x) -> float` over a box, rejecting infeasible samples before they
+are evaluated, optimizing groups of parameters in turn, evaluating a
+generation serially, in local processes or on a Dask cluster (same seed, same
+result), and checkpointing every generation so that a killed run resumes to
+exactly the result it would have reached.
+
+    problem = Problem(objective, x0, lower, upper, feasible=within_joint_limits)
+    with local_executor() as executor:
+        result = optimize(problem, Settings.for_dim(2), executor, run_dir="runs/eel2d")
+"""
+
+from aquagait.optimize.checkpoint import CHECKPOINT, LOG
+from aquagait.optimize.cmaes import optimize
+from aquagait.optimize.evaluate import Outcome, evaluate
+from aquagait.optimize.executors import (
+    DaskExecutor,
+    ProcessExecutor,
+    dask_executor,
+    local_executor,
+)
+from aquagait.optimize.problem import GenerationReport, Problem, Result, Settings
+
+__all__ = [
+    "CHECKPOINT",
+    "LOG",
+    "DaskExecutor",
+    "GenerationReport",
+    "Outcome",
+    "ProcessExecutor",
+    "Problem",
+    "Result",
+    "Settings",
+    "dask_executor",
+    "evaluate",
+    "local_executor",
+    "optimize",
+]

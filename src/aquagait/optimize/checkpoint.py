@@ -1,0 +1,132 @@
+"""Checkpoints and the per-generation log of an optimization run directory.
+
+After every generation the run writes `checkpoint.pkl` (the CMA-ES state with
+the random generator it draws from, the best so far, the history) and
+`optimization.csv`. Each is written to a temporary file in the same directory,
+flushed to disk and renamed over the old one (`os.replace` is atomic), so a
+process killed at any moment, SIGKILL included, leaves the last complete
+checkpoint behind, never a torn one.
+
+The checkpoint is a pickle: load only run directories you wrote yourself.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import pickle
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from aquagait.optimize.problem import Problem, Settings
+
+CHECKPOINT = "checkpoint.pkl"
+LOG = "optimization.csv"
+FORMAT = 1  # bump when the checkpoint's layout changes
+
+LOG_COLUMNS = (
+    "generation",
+    "group",
+    "evaluations",
+    "best",
+    "mean",
+    "sigma",
+    "elapsed",
+    "generation_best",
+    "failures",
+    "infeasible",
+    "resamples",
+)
+
+
+def fingerprint(problem: Problem, settings: Settings) -> dict:
+    """What a checkpoint must share with a run that resumes it: problem shape and settings."""
+    return {
+        "parameters": problem.size,
+        "x0": problem.x0.tolist(),
+        "lower": problem.lower.tolist(),
+        "upper": problem.upper.tolist(),
+        "sigma0": problem.sigma0,
+        "groups": [group.tolist() for group in problem.groups],
+        "feasible": problem.feasible is not None,
+        **settings.as_dict(),
+    }
+
+
+def mismatch(saved: dict, wanted: dict) -> list[str]:
+    """The differences between a checkpoint's fingerprint and this run's, in words."""
+
+    def brief(value):
+        text = repr(value)
+        return text if len(text) <= 60 else text[:57] + "..."
+
+    keys = list(wanted) + [key for key in saved if key not in wanted]
+    return [
+        f"{key}: {brief(saved.get(key))} in the checkpoint, {brief(wanted.get(key))} now"
+        for key in keys
+        if saved.get(key) != wanted.get(key)
+    ]
+
+
+def save(run_dir: Path, state: dict) -> None:
+    """Write `state` to run_dir/checkpoint.pkl atomically."""
+    _write_atomically(Path(run_dir) / CHECKPOINT, pickle.dumps({"format": FORMAT, **state}))
+
+
+def load(run_dir: Path) -> dict:
+    """Read run_dir/checkpoint.pkl; raise FileNotFoundError if there is none."""
+    path = Path(run_dir) / CHECKPOINT
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"no checkpoint {path}: nothing to resume. Start a new run without resume."
+        )
+    with path.open("rb") as file:
+        state = pickle.load(file)
+    if state.get("format") != FORMAT:
+        raise ValueError(
+            f"{path} has checkpoint format {state.get('format')!r}; this aquagait reads {FORMAT}"
+        )
+    return state
+
+
+def write_log(run_dir: Path, history: list[dict], names: tuple[str, ...]) -> None:
+    """Write run_dir/optimization.csv: one row per generation, then the best x so far."""
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow([*LOG_COLUMNS, *names])
+    for row in history:
+        writer.writerow(
+            [_cell(row[key]) for key in LOG_COLUMNS] + [_cell(v) for v in row["best_x"]]
+        )
+    _write_atomically(Path(run_dir) / LOG, text.getvalue().encode())
+
+
+def remove_leftovers(run_dir: Path) -> None:
+    """Delete temporary files a killed run left half written (never read)."""
+    for name in (CHECKPOINT, LOG):
+        for leftover in Path(run_dir).glob(f".{name}.*"):
+            leftover.unlink(missing_ok=True)
+
+
+def _cell(value) -> str:
+    if isinstance(value, float | np.floating):
+        return "nan" if math.isnan(value) else repr(float(value))
+    return str(value)
+
+
+def _write_atomically(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    descriptor, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
+    try:
+        with os.fdopen(descriptor, "wb") as file:
+            file.write(data)
+            file.flush()
+            os.fsync(file.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise

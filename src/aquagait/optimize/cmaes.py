@@ -1,0 +1,299 @@
+"""CMA-ES on pycma's ask/tell, with feasibility, groups and checkpoints (paper §4).
+
+One generation: ask pycma for `popsize` samples; redraw each infeasible one up
+to `max_resamples` times, checking `feasible` here before anything runs; give
+the ones still infeasible the penalty; evaluate the rest (serially or through
+an executor), placing each value by its sample index; tell pycma; write the
+checkpoint and the log. Groups (paper §4, frog) run one after another, each a
+fresh CMA-ES over its coordinates, started from the best point so far.
+
+Determinism and resume. Every random number comes from one
+`numpy.random.Generator` seeded with `Settings.seed`, handed to pycma as its
+`randn` option (pycma otherwise draws from NumPy's global generator). That
+generator lives inside the pycma object and both are in the checkpoint, which
+is written after `tell`, so a run resumed from the checkpoint of generation k
+draws exactly the samples the uninterrupted run drew in generation k + 1. A
+generation cut off half way is redone from its start: its samples are drawn
+again from the saved generator, so they are the same ones. Nothing depends on
+the order in which workers finish.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import cma
+import numpy as np
+
+from aquagait.optimize import checkpoint
+from aquagait.optimize.evaluate import OK, evaluate
+from aquagait.optimize.executors import check_picklable
+from aquagait.optimize.problem import GenerationReport, Problem, Result, Settings
+
+log = logging.getLogger(__name__)
+
+
+class GaussianDraws:
+    """pycma's `randn` option: `draws(lam, n)` -> (lam, n) standard normals from our generator.
+
+    Picklable with its generator state, so the checkpoint carries it.
+    """
+
+    def __init__(self, seed: int):
+        self.rng = np.random.default_rng(seed)
+
+    def __call__(self, *shape: int) -> np.ndarray:
+        return self.rng.standard_normal(shape)
+
+
+@dataclass
+class _Run:
+    """Everything a run changes; saved whole in the checkpoint."""
+
+    draws: GaussianDraws
+    best_x: np.ndarray  # (n,) best evaluated parameters, x0 before any success
+    best_f: float = math.inf
+    group: int = 0  # the group being optimized
+    es: cma.CMAEvolutionStrategy | None = None  # its CMA-ES; None before it starts
+    group_generations: int = 0
+    evaluations: int = 0
+    elapsed: float = 0.0  # seconds, over every session
+    history: list[dict] = field(default_factory=list)
+    stopped: list[str] = field(default_factory=list)
+    finished: bool = False
+
+
+def optimize(
+    problem: Problem,
+    settings: Settings | None = None,
+    executor=None,
+    run_dir: str | Path | None = None,
+    resume: bool = False,
+    progress: Callable[[GenerationReport], None] | None = None,
+) -> Result:
+    """Minimize `problem.objective` with CMA-ES (paper §4).
+
+    Args:
+        problem: objective, start, bounds, feasibility and groups.
+        settings: population, generations, seed, penalties; None: `Settings()`.
+        executor: None evaluates serially here; else a `concurrent.futures`
+            executor (`local_executor()`, `dask_executor(address)`, a
+            `ProcessPoolExecutor`, a Dask `Client`). Same seed, same result.
+        run_dir: where to write `checkpoint.pkl` and `optimization.csv` after
+            every generation; None writes nothing.
+        resume: continue the run whose checkpoint is in `run_dir`. Refused
+            (ValueError) if its problem or settings differ from these. A
+            finished run returns its result at once.
+        progress: called after every generation with a `GenerationReport`.
+
+    Returns:
+        The Result; `history[i]` is generation i + 1.
+
+    Raises:
+        FileExistsError: `run_dir` holds a checkpoint and `resume` is False.
+        FileNotFoundError: `resume` and `run_dir` holds no checkpoint.
+    """
+    settings = Settings() if settings is None else settings
+    if not isinstance(problem, Problem) or not isinstance(settings, Settings):
+        raise TypeError("optimize(problem, settings) takes a Problem and a Settings")
+    check_picklable(problem.objective, executor)
+    run = _begin(problem, settings, run_dir, resume)
+    phases = problem.phases()
+    planned = settings.generations * len(phases)
+    clock = _Clock(run)
+    while not run.finished:
+        if run.es is None:
+            run.es = _strategy(problem, settings, phases[run.group], run)
+        reason = _stop_reason(run, settings)
+        if reason:
+            _end_group(run, reason, len(phases))
+            continue
+        _generation(problem, settings, phases[run.group], run, executor)
+        run.elapsed = run.history[-1]["elapsed"] = clock.elapsed()
+        if run_dir is not None:
+            _save(Path(run_dir), problem, settings, run)
+        if progress is not None:
+            progress(_report(run, planned, clock))
+    if run_dir is not None:
+        _save(Path(run_dir), problem, settings, run)
+    return Result(
+        best_x=run.best_x.copy(),
+        best_f=run.best_f,
+        history=run.history,
+        evaluations=run.evaluations,
+        stopped="; ".join(run.stopped),
+    )
+
+
+def _begin(problem: Problem, settings: Settings, run_dir, resume: bool) -> _Run:
+    """A fresh run, or the one saved in run_dir's checkpoint."""
+    fresh = _Run(draws=GaussianDraws(settings.seed), best_x=problem.x0.copy())
+    if run_dir is None:
+        if resume:
+            raise ValueError("resume=True needs the run_dir of the run to continue")
+        return fresh
+    run_dir = Path(run_dir)
+    checkpoint.remove_leftovers(run_dir)
+    if not resume:
+        if (run_dir / checkpoint.CHECKPOINT).exists():
+            raise FileExistsError(
+                f"{run_dir} already holds an optimization checkpoint; resume it "
+                "(resume=True, --resume) or write the new run to another directory"
+            )
+        return fresh
+    state = checkpoint.load(run_dir)
+    differences = checkpoint.mismatch(
+        state["fingerprint"], checkpoint.fingerprint(problem, settings)
+    )
+    if differences:
+        raise ValueError(
+            f"the checkpoint in {run_dir} was written by a different run, so it cannot be "
+            "resumed with this problem and these settings:\n  "
+            + "\n  ".join(differences)
+            + "\nResume with the run's own settings, or start a new run in another directory."
+        )
+    return _Run(**state["run"])
+
+
+def _strategy(problem: Problem, settings: Settings, group: np.ndarray, run: _Run):
+    """A CMA-ES over `group`'s coordinates, started at the best point so far."""
+    width = problem.upper - problem.lower
+    options = {
+        "popsize": settings.popsize,
+        "maxiter": settings.generations,
+        "tolfun": settings.tolfun,
+        "tolx": settings.tolx,
+        "bounds": [problem.lower[group].tolist(), problem.upper[group].tolist()],
+        "BoundaryHandler": cma.BoundTransform,
+        "CMA_stds": (width[group] / width.mean()).tolist(),
+        "randn": run.draws,
+        "seed": math.nan,  # pycma seeds only its default global generator, which we do not use
+        "verbose": -9,
+        "verb_disp": 0,
+        "verb_log": 0,
+    }
+    return cma.CMAEvolutionStrategy(run.best_x[group].tolist(), problem.sigma0, options)
+
+
+def _stop_reason(run: _Run, settings: Settings) -> str:
+    if run.group_generations >= settings.generations:
+        return f"generations ({settings.generations})"
+    return ", ".join(f"{key}={value}" for key, value in run.es.stop().items())
+
+
+def _end_group(run: _Run, reason: str, groups: int) -> None:
+    run.stopped.append(f"group {run.group}: {reason}" if groups > 1 else reason)
+    run.group, run.es, run.group_generations = run.group + 1, None, 0
+    run.finished = run.group == groups
+
+
+def _generation(problem: Problem, settings: Settings, group, run: _Run, executor) -> None:
+    """Ask, reject infeasible samples, evaluate, tell; record the generation."""
+    base = run.best_x  # the coordinates outside the group stay at the best so far
+
+    def full(z) -> np.ndarray:
+        x = base.copy()
+        x[group] = z
+        return x
+
+    samples = run.es.ask()
+    infeasible, resamples = _reject_infeasible(run.es, samples, full, problem.feasible, settings)
+    todo = [i for i in range(len(samples)) if i not in infeasible]
+    xs = [full(samples[i]) for i in todo]
+    outcomes = evaluate(problem.objective, xs, executor, settings.retries, settings.penalty)
+    values = np.full(len(samples), float(settings.penalty))
+    succeeded = []
+    generation = len(run.history) + 1
+    for i, outcome in zip(todo, outcomes, strict=True):
+        values[i] = outcome.value
+        if outcome.status == OK:
+            succeeded.append(i)
+        else:
+            why = f"{outcome.status} ({outcome.message})"
+            log.warning(
+                "generation %d, sample %d %s: penalty %g", generation, i, why, settings.penalty
+            )
+    run.es.tell(samples, values.tolist())
+    run.evaluations += len(todo)
+    run.group_generations += 1
+    if succeeded:
+        best = min(succeeded, key=lambda i: values[i])  # the first of equals: order-independent
+        if values[best] < run.best_f:
+            run.best_f, run.best_x = float(values[best]), full(samples[best])
+    run.history.append(
+        {
+            "generation": generation,
+            "group": run.group,
+            "evaluations": run.evaluations,
+            "best": run.best_f,
+            "mean": float(np.mean(values[succeeded])) if succeeded else math.nan,
+            "generation_best": float(np.min(values[succeeded])) if succeeded else math.nan,
+            "sigma": float(run.es.sigma),
+            "failures": len(todo) - len(succeeded),
+            "infeasible": len(infeasible),
+            "resamples": resamples,
+            "elapsed": run.elapsed,
+            "best_x": run.best_x.tolist(),
+        }
+    )
+
+
+def _reject_infeasible(es, samples, full, feasible, settings: Settings) -> tuple[set[int], int]:
+    """Redraw infeasible samples in place; return those still infeasible and the redraws."""
+    if feasible is None:
+        return set(), 0
+    still_infeasible, resamples = set(), 0
+    for i in range(len(samples)):
+        tries = 0
+        while not feasible(full(samples[i])):
+            if tries == settings.max_resamples:
+                still_infeasible.add(i)
+                break
+            samples[i] = es.ask(1)[0]
+            tries += 1
+        resamples += tries
+    return still_infeasible, resamples
+
+
+def _save(run_dir: Path, problem: Problem, settings: Settings, run: _Run) -> None:
+    """Checkpoint first, then the log: the log never runs ahead of the checkpoint."""
+    state = {"fingerprint": checkpoint.fingerprint(problem, settings), "run": vars(run)}
+    checkpoint.save(run_dir, state)
+    checkpoint.write_log(run_dir, run.history, problem.names)
+
+
+class _Clock:
+    """Seconds spent, continuing a resumed run's count; generations done in this session."""
+
+    def __init__(self, run: _Run):
+        self.start, self.before = time.perf_counter(), run.elapsed
+        self.done_before = len(run.history)
+        self.run = run
+
+    def elapsed(self) -> float:
+        return self.before + time.perf_counter() - self.start
+
+    def per_generation(self) -> float:
+        done = len(self.run.history) - self.done_before
+        return (self.elapsed() - self.before) / done if done else math.nan
+
+
+def _report(run: _Run, planned: int, clock: _Clock) -> GenerationReport:
+    row = run.history[-1]
+    return GenerationReport(
+        generation=row["generation"],
+        planned=planned,
+        group=row["group"],
+        best=row["best"],
+        mean=row["mean"],
+        sigma=row["sigma"],
+        evaluations=row["evaluations"],
+        failures=row["failures"],
+        elapsed=run.elapsed,
+        remaining=clock.per_generation() * max(planned - row["generation"], 0),
+    )

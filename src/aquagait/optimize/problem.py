@@ -1,0 +1,241 @@
+"""What the optimizer is asked (Problem, Settings) and what it answers (Result, reports).
+
+The optimizer knows nothing of physics (DESIGN.md §3): a problem is a function
+`objective(x) -> float` of a parameter vector `x` of shape (n,) inside a box,
+to be minimized, plus an optional feasibility test (joint limits, paper §4).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+# Paper §4: population 16 for 2D creatures, 31 for 3D ones, up to 100 generations.
+PAPER_POPSIZE = {2: 16, 3: 31}
+
+
+def _vector(name: str, value, n: int | None = None) -> np.ndarray:
+    if np.ndim(value) != 1:
+        raise ValueError(f"Problem.{name} must be a 1-D vector, got shape {np.shape(value)}")
+    array = np.array(value, dtype=float)
+    if n is not None and array.shape != (n,):
+        raise ValueError(f"Problem.{name} has {array.size} entries; x0 has {n}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"Problem.{name} must be finite, got {array}")
+    array.setflags(write=False)
+    return array
+
+
+def _group(index: int, group, n: int) -> np.ndarray:
+    members = np.array(group).reshape(-1)
+    if members.size == 0 or not np.issubdtype(members.dtype, np.integer):
+        raise ValueError(f"Problem.groups[{index}] must be a non-empty set of integer indices")
+    if members.min() < 0 or members.max() >= n:
+        raise ValueError(f"Problem.groups[{index}] = {members.tolist()} leaves 0..{n - 1}")
+    if np.unique(members).size != members.size:
+        raise ValueError(f"Problem.groups[{index}] = {members.tolist()} repeats an index")
+    members = members.astype(np.intp)
+    members.setflags(write=False)
+    return members
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """A box-bounded minimization of a black-box objective (paper §4).
+
+    Args:
+        objective: `f(x) -> float` with `x` of shape (n,), minimized. It must be
+            picklable to run in other processes (a module-level function or an
+            instance of a module-level class) and deterministic for the same `x`.
+            A call that raises, or returns nan or inf, is a failure: the sample
+            gets `Settings.penalty` and the run goes on.
+        x0: (n,) start of the search (the CMA-ES mean); inside the bounds.
+        lower, upper: (n,) box bounds, finite, `lower < upper`. Every sample
+            handed to `objective` lies inside them: pycma's `BoundTransform`
+            maps the Gaussian samples into the box (a smooth, piecewise
+            quadratic fold near each bound), so no evaluation is wasted outside.
+        sigma0: initial step size, in units of `x` for a coordinate whose bound
+            width is the mean width. Each coordinate's initial standard deviation
+            is `sigma0 * width_i / mean(width)`, so coordinates of different
+            scales (an amplitude in [0, 1] rad, a phase in [0, 2 pi]) start
+            with the same share of their range. None: `0.25 * mean(width)`,
+            a quarter of each coordinate's range.
+        feasible: `feasible(x) -> bool`, checked in this process BEFORE any
+            evaluation (e.g. joint limits). An infeasible sample is redrawn up
+            to `Settings.max_resamples` times; one still infeasible gets
+            `Settings.penalty` without being evaluated.
+        groups: index sets optimized in turn (paper §4, frog: hind legs, then
+            fore legs). Each group runs its own CMA-ES over its coordinates for
+            up to `Settings.generations` generations, the other coordinates
+            frozen at the best point found so far; the next group starts from
+            that best point. Empty: all coordinates at once.
+        names: (n,) parameter names for the log; empty gives x0, x1, ...
+    """
+
+    objective: Callable[[np.ndarray], float]
+    x0: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    sigma0: float | None = None
+    feasible: Callable[[np.ndarray], bool] | None = None
+    groups: tuple[np.ndarray, ...] = ()
+    names: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        if not callable(self.objective):
+            raise TypeError(f"Problem.objective must be callable, got {self.objective!r}")
+        if self.feasible is not None and not callable(self.feasible):
+            raise TypeError(f"Problem.feasible must be callable or None, got {self.feasible!r}")
+        x0 = _vector("x0", self.x0)
+        n = x0.size
+        if n == 0:
+            raise ValueError("Problem.x0 is empty: there is nothing to optimize")
+        lower, upper = _vector("lower", self.lower, n), _vector("upper", self.upper, n)
+        if np.any(lower >= upper):
+            bad = np.flatnonzero(lower >= upper).tolist()
+            raise ValueError(f"Problem bounds need lower < upper; coordinates {bad} break it")
+        if np.any((x0 < lower) | (x0 > upper)):
+            bad = np.flatnonzero((x0 < lower) | (x0 > upper)).tolist()
+            raise ValueError(f"Problem.x0 lies outside the bounds at coordinates {bad}")
+        width = upper - lower
+        sigma0 = 0.25 * float(width.mean()) if self.sigma0 is None else float(self.sigma0)
+        if not (np.isfinite(sigma0) and sigma0 > 0):
+            raise ValueError(f"Problem.sigma0 must be a positive number, got {self.sigma0!r}")
+        groups = tuple(_group(i, g, n) for i, g in enumerate(self.groups))
+        names = tuple(str(name) for name in self.names) or tuple(f"x{i}" for i in range(n))
+        if len(names) != n:
+            raise ValueError(f"Problem.names has {len(names)} names for {n} parameters")
+        for name, value in [("x0", x0), ("lower", lower), ("upper", upper), ("sigma0", sigma0)]:
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "groups", groups)
+        object.__setattr__(self, "names", names)
+
+    @property
+    def size(self) -> int:
+        """n, the number of parameters."""
+        return self.x0.size
+
+    def phases(self) -> tuple[np.ndarray, ...]:
+        """The index sets optimized in turn: `groups`, or all indices at once."""
+        return self.groups or (np.arange(self.size),)
+
+
+@dataclass(frozen=True)
+class Settings:
+    """How the CMA-ES search runs (paper §4 defaults: 2D population, 100 generations).
+
+    Args:
+        popsize: samples per generation (paper: 16 in 2D, 31 in 3D; see `for_dim`).
+        generations: the most generations per group (all at once: per run).
+        seed: seeds the only random generator the search draws from.
+        max_resamples: redraws of an infeasible sample before it gets `penalty`.
+        penalty: the value given to a failed sample (objective raised, returned
+            nan/inf, or its worker died `retries + 1` times) and to an infeasible
+            one after `max_resamples` redraws. Finite, and worse than any real
+            value of the objective, so CMA-ES ranks such samples last.
+        retries: re-submissions of a sample whose worker died (a process pool
+            broke, Dask's KilledWorker, a lost connection) before it gets
+            `penalty`. An objective that raises is not retried: the simulation
+            is deterministic and would raise again.
+        tolfun, tolx: pycma's stopping tolerances on the spread of recent
+            objective values and on the step size in x.
+    """
+
+    popsize: int = 16
+    generations: int = 100
+    seed: int = 0
+    max_resamples: int = 20
+    penalty: float = 1e6
+    retries: int = 1
+    tolfun: float = 1e-11
+    tolx: float = 1e-11
+
+    def __post_init__(self):
+        checks = [
+            ("popsize", self.popsize, 2),
+            ("generations", self.generations, 1),
+            ("seed", self.seed, 0),
+            ("max_resamples", self.max_resamples, 0),
+            ("retries", self.retries, 0),
+        ]
+        for name, value, least in checks:
+            if not isinstance(value, int | np.integer) or value < least:
+                raise ValueError(f"Settings.{name} must be an integer >= {least}, got {value!r}")
+        if not np.isfinite(self.penalty):
+            raise ValueError(f"Settings.penalty must be finite, got {self.penalty!r}")
+        for name in ("tolfun", "tolx"):
+            if not getattr(self, name) >= 0:
+                raise ValueError(f"Settings.{name} must be >= 0, got {getattr(self, name)!r}")
+
+    @classmethod
+    def for_dim(cls, dim: int, **overrides) -> Settings:
+        """The paper's settings for a 2D or 3D creature (population 16 or 31)."""
+        if dim not in PAPER_POPSIZE:
+            raise ValueError(f"dim must be 2 or 3, got {dim!r}")
+        return cls(**{"popsize": PAPER_POPSIZE[dim], **overrides})
+
+    def as_dict(self) -> dict:
+        """The settings as plain Python values (for config files and checkpoints)."""
+        return {
+            k: v.item() if hasattr(v, "item") else v for k, v in dataclasses.asdict(self).items()
+        }
+
+
+@dataclass(frozen=True)
+class GenerationReport:
+    """Progress after one generation, handed to `optimize(progress=...)`.
+
+    Attributes:
+        generation: generations done so far, over all groups (1-based).
+        planned: the most generations the run can take (`generations * groups`).
+        group: index of the group being optimized (0 without groups).
+        best: best objective value so far (inf while no sample succeeded).
+        mean: mean of this generation's successful values (nan if none).
+        sigma: CMA-ES step size after this generation.
+        evaluations: samples evaluated so far (infeasible ones are not).
+        failures: samples of this generation that got the penalty.
+        elapsed: seconds spent so far, over every session of a resumed run.
+        remaining: estimated seconds left if the run takes all `planned` generations.
+    """
+
+    generation: int
+    planned: int
+    group: int
+    best: float
+    mean: float
+    sigma: float
+    evaluations: int
+    failures: int
+    elapsed: float
+    remaining: float
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """The outcome of `optimize`.
+
+    Attributes:
+        best_x: (n,) the best parameters evaluated (x0 if no sample succeeded).
+        best_f: its objective value (inf if no sample succeeded).
+        history: one dict per generation with keys generation, group,
+            evaluations, best, mean, generation_best, sigma, failures,
+            infeasible, resamples, elapsed and best_x (a list). Every entry but
+            `elapsed` is a deterministic function of the problem and settings.
+        evaluations: samples evaluated (each counted once, retries included).
+        stopped: why the search ended, per group ("generations (100)",
+            "tolfun=1e-11", ...).
+    """
+
+    best_x: np.ndarray
+    best_f: float
+    history: list[dict] = field(repr=False)
+    evaluations: int
+    stopped: str
+
+    @property
+    def generations(self) -> int:
+        """Generations run, over all groups."""
+        return len(self.history)

@@ -1,0 +1,133 @@
+"""Objectives and problems shared by the optimize tests, importable by worker processes.
+
+Run as a script, it is the optimization that test_checkpoint.py kills with SIGKILL:
+
+    python optimize_cases.py RUN_DIR CALLS_FILE
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from aquagait.optimize import Problem, Settings, optimize
+
+
+class Sphere:
+    """f(x) = |x - center|^2, minimum 0 at `center`."""
+
+    def __init__(self, center):
+        self.center = np.asarray(center, dtype=float)
+
+    def __call__(self, x):
+        return float(np.sum((x - self.center) ** 2))
+
+
+class RotatedEllipsoid:
+    """f(x) = sum_i cond^(i/(n-1)) y_i^2 with y = R (x - center), R a fixed random rotation.
+
+    The smallest weight is 1, so |x - center| <= sqrt(f(x)).
+    """
+
+    def __init__(self, center, cond: float, seed: int = 1):
+        self.center = np.asarray(center, dtype=float)
+        n = self.center.size
+        q, r = np.linalg.qr(np.random.default_rng(seed).standard_normal((n, n)))
+        self.rotation = q * np.sign(np.diag(r))
+        self.weights = cond ** (np.arange(n) / (n - 1))
+
+    def __call__(self, x):
+        y = self.rotation @ (x - self.center)
+        return float(np.sum(self.weights * y**2))
+
+
+class Recorder:
+    """Wraps an objective and keeps every x it was called with (serial runs only)."""
+
+    def __init__(self, objective):
+        self.objective = objective
+        self.calls: list[np.ndarray] = []
+
+    def __call__(self, x):
+        self.calls.append(np.array(x))
+        return self.objective(x)
+
+
+class Slow:
+    """Sleeps, optionally appends a line to `calls` (a file), then evaluates."""
+
+    def __init__(self, objective, seconds: float, calls: str | None = None):
+        self.objective, self.seconds, self.calls = objective, seconds, calls
+
+    def __call__(self, x):
+        if self.calls:
+            with open(self.calls, "a") as file:
+                file.write("call\n")
+        time.sleep(self.seconds)
+        return self.objective(x)
+
+
+class Faulty:
+    """Raises where x[0] < -1, returns nan where x[1] < -1, else the wrapped value."""
+
+    def __init__(self, objective):
+        self.objective = objective
+
+    def __call__(self, x):
+        if x[0] < -1:
+            raise FloatingPointError("simulation diverged (test)")
+        if x[1] < -1:
+            return math.nan
+        return self.objective(x)
+
+
+class DiesOnce:
+    """Kills its worker process the first time any worker calls it (a marker file says so)."""
+
+    def __init__(self, objective, marker: str):
+        self.objective, self.marker = objective, marker
+
+    def __call__(self, x):
+        try:
+            descriptor = os.open(self.marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+        except FileExistsError:
+            return self.objective(x)
+        os.close(descriptor)
+        os._exit(3)  # the worker dies mid-task, as if killed
+
+
+def within(x, limit: float = 0.5) -> bool:
+    """Feasible when x[0] <= limit (a stand-in for joint limits)."""
+    return bool(x[0] <= limit)
+
+
+def never(x) -> bool:
+    return False
+
+
+def sphere_problem(n: int = 4, objective=None, **fields) -> Problem:
+    """A sphere centred at 1 in [-5, 5]^n, started at 0."""
+    objective = Sphere(np.ones(n)) if objective is None else objective
+    return Problem(objective, np.zeros(n), -5 * np.ones(n), 5 * np.ones(n), **fields)
+
+
+# The run that test_checkpoint.py kills: small enough to finish in seconds.
+KILLED_SETTINGS = Settings(popsize=8, generations=12, seed=7)
+
+
+def killed_problem(calls: str | None = None, seconds: float = 0.0) -> Problem:
+    objective = RotatedEllipsoid(np.linspace(-1, 1, 5), cond=1e3)
+    if seconds or calls:
+        objective = Slow(objective, seconds, calls)
+    lower, upper = -4 * np.ones(5), 4 * np.ones(5)
+    return Problem(objective, np.zeros(5), lower, upper, sigma0=1.0, feasible=within)
+
+
+if __name__ == "__main__":
+    run_dir, calls = Path(sys.argv[1]), sys.argv[2]
+    optimize(killed_problem(calls, seconds=0.03), KILLED_SETTINGS, run_dir=run_dir)
