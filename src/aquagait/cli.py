@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import math
 import sys
 import time
 from pathlib import Path
@@ -10,6 +12,14 @@ from pathlib import Path
 import aquagait
 from aquagait.bench import BENCHMARKS
 from aquagait.sim import FLUIDS_NOW
+
+DEMO_GRID = ((64, 32), 0.02)
+"""The demo optimizes on a coarse grid (cells, cell size [m]), then swims at the default."""
+
+DEFAULT_GRID_TEXT = "128x64"
+
+DEMO_SWIM = 4.0
+"""Seconds the demo's best gait swims on the default grid (four cycles)."""
 
 
 def _cmd_bench(args) -> int:
@@ -27,8 +37,7 @@ def _cmd_creatures(args) -> int:
 
 
 def _cmd_swim(args) -> int:
-    from aquagait.io import SwimSetupError, prepare_swim, run_swim, swim_summary, write_swim
-    from aquagait.sim import SimulationDiverged
+    from aquagait.io import SwimSetupError, prepare_swim
 
     try:
         setup = prepare_swim(
@@ -41,12 +50,24 @@ def _cmd_swim(args) -> int:
         )
     except SwimSetupError as err:
         return _fail("swim", err, status=2)
+    return _swim_and_render(setup, args.out or Path("runs") / args.name, not args.no_video)
+
+
+def _swim_and_render(setup, out, video: bool, extra_config=None) -> int:
+    """Swim a prepared setup, write its run directory and (optionally) its video."""
+    from aquagait.io import run_swim, swim_summary, write_swim
+    from aquagait.sim import SimulationDiverged
+
     try:
         run = run_swim(setup, progress=ProgressBar("swimming"))
     except SimulationDiverged as err:
         return _fail("swim", err, status=1)
-    out = write_swim(run, args.out or Path("runs") / args.name)
-    if not args.no_video:
+    out = write_swim(run, out)
+    if extra_config:
+        from aquagait.io.run import read_json, write_json
+
+        write_json(out / "config.json", {**read_json(out / "config.json"), **extra_config})
+    if video:
         from aquagait.viz import render_swim
 
         render_swim(
@@ -57,6 +78,97 @@ def _cmd_swim(args) -> int:
         )
     print(swim_summary(run, out))
     return 0
+
+
+def _cmd_optimize(args) -> int:
+    from aquagait.io.optimize import OptimizationSetupError, prepare_optimization
+
+    try:
+        setup = prepare_optimization(
+            args.name,
+            generations=args.generations,
+            popsize=args.popsize,
+            seed=args.seed,
+            resolution=args.resolution,
+            cell_size=args.cell_size,
+        )
+    except OptimizationSetupError as err:
+        return _fail("optimize", err, status=2)
+    out = Path(args.out or Path("runs") / args.name)
+    return _optimize_and_swim(setup, out, args, video=not args.no_video)
+
+
+def _optimize_and_swim(setup, out: Path, args, video: bool, swim_grid=None, seconds=None) -> int:
+    """Optimize, write gait.json and convergence.png, then swim the best gait."""
+    from aquagait.io import prepare_swim, write_gait
+    from aquagait.io.optimize import run_optimization
+    from aquagait.optimize import LOG
+
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        with _executor(args) as executor:
+            workers = getattr(executor, "workers", 1)
+            name, size, popsize = setup.creature.name, setup.problem.size, setup.settings.popsize
+            print(f"optimizing {name}: {size} parameters, population {popsize}, "
+                  f"{workers} worker(s)", file=sys.stderr)  # fmt: skip
+            result = run_optimization(setup, out, executor, args.resume, GenerationLine())
+    except (FileExistsError, FileNotFoundError, ValueError, ImportError, OSError) as err:
+        return _fail("optimize", err, status=2)
+    write_gait(out / "gait.json", setup.creature, result.best_x)
+    if video:
+        from aquagait.viz import plot_convergence
+
+        plot_convergence(out / LOG, out / "convergence.png", title=setup.creature.name)
+    print(f"best objective {result.best_f:.4g} after {result.evaluations} samples "
+          f"({result.stopped})")  # fmt: skip
+    resolution, cell_size = swim_grid or (setup.objective.resolution, setup.objective.cell_size)
+    swim = prepare_swim(
+        setup.creature.name, gait=out / "gait.json", seconds=seconds or setup.objective.seconds,
+        resolution=resolution, cell_size=cell_size,
+    )  # fmt: skip
+    return _swim_and_render(swim, out, video, extra_config={"optimization": setup.config()})
+
+
+def _executor(args):
+    """The evaluator the flags ask for: a Dask cluster, local processes, or this process."""
+    from aquagait.optimize import dask_executor, local_executor
+
+    if args.scheduler:
+        return dask_executor(args.scheduler)
+    if args.workers == 1:
+        return contextlib.nullcontext(None)
+    return local_executor(args.workers)
+
+
+def _cmd_demo(args) -> int:
+    from aquagait.io.optimize import prepare_optimization
+
+    setup = prepare_optimization(
+        "eel2d", generations=args.generations, seed=args.seed,
+        resolution=DEMO_GRID[0], cell_size=DEMO_GRID[1],
+    )  # fmt: skip
+    args.resume = args.scheduler = None
+    out = Path(args.out)
+    print(f"aquagait demo: CMA-ES finds eel2d a gait on a {DEMO_GRID[0][0]}x{DEMO_GRID[0][1]} "
+          f"grid, then it swims at {DEFAULT_GRID_TEXT} into {out}/", file=sys.stderr)  # fmt: skip
+    return _optimize_and_swim(setup, out, args, True, swim_grid=(None, None), seconds=DEMO_SWIM)
+
+
+class GenerationLine:
+    """``progress(report)`` of an optimization: one line per generation on stderr."""
+
+    def __init__(self, stream=None):
+        self.stream = stream or sys.stderr
+
+    def __call__(self, report) -> None:
+        left = f"{report.remaining:.0f} s left" if math.isfinite(report.remaining) else ""
+        print(
+            f"generation {report.generation:>3}/{report.planned}  best {report.best:.4g}  "
+            f"mean {report.mean:.4g}  sigma {report.sigma:.3g}  "
+            f"{report.elapsed:.0f} s  {left}",
+            file=self.stream,
+            flush=True,
+        )
 
 
 class ProgressBar:
@@ -129,7 +241,38 @@ def build_parser() -> argparse.ArgumentParser:
     swim.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME)")
     swim.add_argument("--no-video", action="store_true", help="skip swim.mp4")
     swim.set_defaults(run=_cmd_swim)
+
+    optimize = commands.add_parser(
+        "optimize", help="find a gait with CMA-ES; write gait.json, the log and the best swim"
+    )
+    optimize.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
+    optimize.add_argument("--generations", type=int, default=100, help="CMA-ES generations")
+    optimize.add_argument("--popsize", type=int, help="samples per generation (2D 16, 3D 31)")
+    _add_evaluator_flags(optimize)
+    optimize.add_argument("--seed", type=int, default=0, help="random seed")
+    optimize.add_argument("--resolution", type=int, nargs="+", metavar="N",
+                          help="cells per axis: NX NY (2D) or NX NY NZ (3D)")  # fmt: skip
+    optimize.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
+    optimize.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME)")
+    optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
+    optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
+    optimize.set_defaults(run=_cmd_optimize)
+
+    demo = commands.add_parser(
+        "demo", help="optimize eel2d on a coarse grid, then swim and render the result"
+    )
+    demo.add_argument("--generations", type=int, default=20, help="CMA-ES generations")
+    demo.add_argument("--workers", type=int, help="worker processes (default: all cores)")
+    demo.add_argument("--seed", type=int, default=0, help="random seed")
+    demo.add_argument("--out", default="runs/demo", metavar="DIR", help="run directory")
+    demo.set_defaults(run=_cmd_demo)
     return parser
+
+
+def _add_evaluator_flags(parser) -> None:
+    parser.add_argument("--workers", type=int, help="worker processes (default: all cores)")
+    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                        help="evaluate on a Dask cluster instead (extra: dist)")  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:

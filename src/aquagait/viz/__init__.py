@@ -7,7 +7,8 @@ Reads Trajectory only; matplotlib and imageio are imported inside the
 functions that draw, so importing this package needs neither.
 """
 
+from aquagait.viz.convergence import plot_convergence
 from aquagait.viz.particles import particle_traces
 from aquagait.viz.swim import Look, render_swim, swim_frames
 
-__all__ = ["Look", "particle_traces", "render_swim", "swim_frames"]
+__all__ = ["Look", "particle_traces", "plot_convergence", "render_swim", "swim_frames"]

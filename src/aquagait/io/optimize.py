@@ -1,0 +1,188 @@
+"""Optimize a library creature's gait and keep the run on disk (DESIGN.md §1 step 2, §2.4).
+
+    setup = prepare_optimization("eel2d", generations=30, resolution=(64, 32), cell_size=0.02)
+    result = run_optimization(setup, run_dir="runs/eel2d", executor=local_executor(2))
+    write_gait(Path("runs/eel2d") / "gait.json", setup.creature, result.best_x)
+
+The physics enters the optimizer through one seam, ``SwimObjective``: a
+picklable ``evaluate(params) -> float`` that swims the gait for two cycles
+and scores the run with ``aquagait.objectives``. Each process builds its
+scene once and keeps it (``_scene``), so a worker pays for the MJCF and the
+voxel geometry only on its first sample. Joint limits are checked before
+anything is simulated (``feasible``).
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from aquagait import creatures, objectives
+from aquagait.creatures import Creature
+from aquagait.optimize import Problem, Result, Settings, optimize
+from aquagait.sim import Scene, init_state, make_scene, rollout
+
+DEFAULT_CYCLES = 2.0
+"""Gait cycles simulated per sample (paper §4)."""
+
+POPULATION = {2: 16, 3: 31}
+"""CMA-ES population per creature dimension (paper §4)."""
+
+DEFAULT_GENERATIONS = 100
+
+
+class OptimizationSetupError(ValueError):
+    """An optimization cannot start: unknown creature, bad grid, bad budget."""
+
+
+@dataclass(frozen=True)
+class SwimObjective:
+    """``evaluate(params) -> float``: the objective ``E`` of swimming a gait (picklable).
+
+    Attributes:
+        creature: library creature name (workers look it up by name).
+        resolution: grid cells per axis, or None for the creature's default.
+        cell_size: h [m], or None for the creature's default.
+        fluid: 'euler' (or 'none' to test the machinery in vacuum).
+        seconds: simulated time per sample [s] (two cycles).
+        direction: desired swimming direction, (dim,).
+        weights: the objective's weights.
+    """
+
+    creature: str
+    resolution: tuple[int, ...] | None
+    cell_size: float | None
+    fluid: str = "euler"
+    seconds: float = 2.0
+    direction: tuple[float, ...] = (1.0, 0.0)
+    weights: objectives.Weights = field(default_factory=objectives.Weights)
+
+    def __call__(self, params) -> float:
+        creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid)
+        policy = creature.policy(np.asarray(params, dtype=float))
+        traj = rollout(scene, init_state(scene), policy, self.seconds, record_fluid=False)
+        return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights)
+
+
+@functools.lru_cache(maxsize=4)
+def _scene(name: str, resolution, cell_size, fluid: str) -> tuple[Creature, Scene]:
+    creature = creatures.get(name)
+    return creature, make_scene(creature, resolution, cell_size, fluid=fluid)
+
+
+@dataclass(frozen=True)
+class JointLimits:
+    """``feasible(params) -> bool``: the gait's sines stay within the joint limits (picklable)."""
+
+    creature: str
+
+    def __call__(self, params) -> bool:
+        creature = creatures.get(self.creature)
+        return not creature.gait.limit_violations(params, *creature.gait_limits())
+
+
+@dataclass(frozen=True, eq=False)
+class OptimizationSetup:
+    """Everything an optimization needs, resolved and checked.
+
+    Attributes:
+        creature: the library creature.
+        objective: the swim objective.
+        problem: start, bounds, feasibility and groups for the optimizer.
+        settings: population, generations, seed.
+    """
+
+    creature: Creature
+    objective: SwimObjective
+    problem: Problem
+    settings: Settings
+
+    def config(self) -> dict:
+        """The resolved settings, for ``config.json``."""
+        o, s = self.objective, self.settings
+        return dict(
+            creature=self.creature.name, fluid=o.fluid, resolution=o.resolution,
+            cell_size=o.cell_size, seconds_per_sample=o.seconds, direction=list(o.direction),
+            weights=vars(o.weights), energy_bound=self.creature.energy_bound,
+            popsize=s.popsize, generations=s.generations, seed=s.seed,
+            parameters=list(self.problem.names), x0=self.problem.x0.tolist(),
+            lower=self.problem.lower.tolist(), upper=self.problem.upper.tolist(),
+            sigma0=self.problem.sigma0,
+        )  # fmt: skip
+
+
+def prepare_optimization(
+    name: str,
+    generations: int = DEFAULT_GENERATIONS,
+    popsize: int | None = None,
+    seed: int = 0,
+    resolution=None,
+    cell_size: float | None = None,
+    fluid: str = "euler",
+    cycles: float = DEFAULT_CYCLES,
+) -> OptimizationSetup:
+    """Resolve and check an optimization of a library creature's gait.
+
+    Args:
+        name: creature name (``aquagait creatures``).
+        generations: CMA-ES generations (per group, for grouped gaits).
+        popsize: samples per generation; default 16 in 2D, 31 in 3D.
+        seed: random seed: the same seed gives the same gait, serial or parallel.
+        resolution, cell_size: the fluid grid; default the creature's.
+        fluid: 'euler', or 'none'.
+        cycles: gait cycles simulated per sample.
+    Raises:
+        OptimizationSetupError: with what was wrong and what would be right.
+    """
+    try:
+        creature = creatures.get(name)
+    except KeyError as err:
+        raise OptimizationSetupError(str(err)) from None
+    if generations < 1:
+        raise OptimizationSetupError(f"generations must be at least 1, got {generations}")
+    popsize = POPULATION[creature.dim] if popsize is None else popsize
+    if popsize < 2:
+        raise OptimizationSetupError(f"popsize must be at least 2, got {popsize}")
+    if resolution is not None and len(resolution) != creature.dim:
+        raise OptimizationSetupError(
+            f"{name} is {creature.dim}D: give {creature.dim} numbers to --resolution, "
+            f"got {list(resolution)}"
+        )
+    try:  # build the scene now, so a bad grid fails before any worker starts
+        _scene(name, _tuple(resolution), cell_size, fluid)
+    except ValueError as err:
+        raise OptimizationSetupError(str(err)) from None
+    gait = creature.gait
+    period = float(np.max(gait.unpack(creature.default_gait).period))
+    direction = (1.0,) + (0.0,) * (creature.dim - 1)
+    seconds = cycles * period
+    objective = SwimObjective(name, _tuple(resolution), cell_size, fluid, seconds, direction)
+    groups = gait.groups or ()
+    problem = Problem(
+        objective=objective,
+        x0=creature.default_gait.copy(),
+        lower=gait.lower,
+        upper=gait.upper,
+        sigma0=None,  # a quarter of every parameter's range
+        feasible=JointLimits(name),
+        groups=tuple(gait.group_indices(k) for k in range(len(groups))) if len(groups) > 1 else (),
+        names=gait.names,
+    )
+    settings = Settings(popsize=popsize, generations=generations, seed=seed)
+    return OptimizationSetup(creature, objective, problem, settings)
+
+
+def run_optimization(
+    setup: OptimizationSetup, run_dir=None, executor=None, resume: bool = False, progress=None
+) -> Result:
+    """Run CMA-ES on the setup (see ``aquagait.optimize.optimize``)."""
+    return optimize(
+        setup.problem, setup.settings, executor=executor, run_dir=run_dir, resume=resume,
+        progress=progress,
+    )  # fmt: skip
+
+
+def _tuple(resolution):
+    return None if resolution is None else tuple(int(n) for n in resolution)

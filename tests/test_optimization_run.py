@@ -1,0 +1,99 @@
+"""Optimizing a creature's gait end to end: the swim objective, the command, the demo."""
+
+import json
+import pickle
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import aquagait as ag
+from aquagait import cli
+from aquagait.io.optimize import (
+    JointLimits,
+    OptimizationSetupError,
+    SwimObjective,
+    prepare_optimization,
+    run_optimization,
+)
+
+COARSE = dict(resolution=(48, 24), cell_size=0.025)
+
+
+def test_swim_objective_is_picklable_and_deterministic():
+    objective = SwimObjective("eel2d", (48, 24), 0.025, seconds=0.5)
+    eel = ag.creatures.get("eel2d")
+    clone = pickle.loads(pickle.dumps(objective))
+    assert objective(eel.default_gait) == clone(eel.default_gait)
+
+
+def test_joint_limits_are_checked_before_swimming():
+    eel = ag.creatures.get("eel2d")
+    feasible = JointLimits("eel2d")
+    assert feasible(eel.default_gait)
+    too_wide = eel.default_gait.copy()
+    too_wide[0] = 1.2  # amplitude of j1 beyond its 45 degree limit
+    assert not feasible(too_wide)
+
+
+def test_an_optimized_eel_swims_farther_than_the_hand_set_gait(tmp_path):
+    setup = prepare_optimization("eel2d", generations=4, popsize=8, seed=3, **COARSE)
+    result = run_optimization(setup, run_dir=tmp_path)
+    eel = setup.creature
+    scene = ag.make_scene(eel, fluid="euler", **COARSE)
+
+    def distance(params):
+        traj = ag.rollout(scene, ag.init_state(scene), eel.policy(params), 2.0)
+        return traj.qpos[-1, 0] - traj.qpos[0, 0]
+
+    hand_set, optimized = distance(eel.default_gait), distance(result.best_x)
+    print(f"eel2d 2 s on 48x24: hand-set {hand_set:.3f} m, optimized {optimized:.3f} m")
+    assert optimized > hand_set
+    assert result.best_f < setup.problem.objective(eel.default_gait)
+
+
+def test_bad_settings_are_refused_before_anything_runs():
+    with pytest.raises(OptimizationSetupError, match="known creatures"):
+        prepare_optimization("shark")
+    with pytest.raises(OptimizationSetupError, match="give 2 numbers"):
+        prepare_optimization("eel2d", resolution=(32, 16, 8))
+    with pytest.raises(OptimizationSetupError, match="generations must be at least 1"):
+        prepare_optimization("eel2d", generations=0)
+
+
+def test_optimize_command_writes_the_run_directory_and_resumes(tmp_path, capsys):
+    out = tmp_path / "eel"
+    argv = ["optimize", "eel2d", "--generations", "2", "--popsize", "4", "--workers", "1"]
+    argv += ["--resolution", "48", "24", "--cell-size", "0.025", "--out", str(out), "--no-video"]
+    assert cli.main(argv) == 0
+    for name in ("gait.json", "optimization.csv", "checkpoint.pkl", "metrics.json", "config.json"):
+        assert (out / name).exists(), name
+    config = json.loads((out / "config.json").read_text())
+    assert config["optimization"]["popsize"] == 4 and config["optimization"]["creature"] == "eel2d"
+    gait = json.loads((out / "gait.json").read_text())
+    assert len(gait["params"]) == 8
+    assert "generation   2/2" in capsys.readouterr().err
+    # a second run into the same directory must say --resume; with it, the finished run returns
+    assert cli.main(argv) == 2
+    assert "resume" in capsys.readouterr().err
+    assert cli.main(argv + ["--resume"]) == 0
+    assert json.loads((out / "gait.json").read_text())["params"] == gait["params"]
+
+
+@pytest.mark.slow
+def test_demo_finds_a_gait_that_swims_a_third_of_a_body_length_per_cycle(tmp_path):
+    """The README's main job: in at most 10 minutes on 2 cores (measured about 1 minute)."""
+    start = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, "-m", "aquagait", "demo", "--out", str(tmp_path)],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    metrics = json.loads((tmp_path / "metrics.json").read_text())
+    print(f"demo: {metrics['body_lengths_per_cycle']:.2f} BL/cycle in "
+          f"{time.perf_counter() - start:.0f} s")  # fmt: skip
+    assert metrics["body_lengths_per_cycle"] >= 0.3
+    assert (tmp_path / "swim.mp4").stat().st_size > 0
+    assert np.isfinite(metrics["strouhal"])
