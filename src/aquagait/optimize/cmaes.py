@@ -26,14 +26,17 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import cma
 import numpy as np
 
 from aquagait.optimize import checkpoint
 from aquagait.optimize.evaluate import OK, evaluate
 from aquagait.optimize.executors import check_picklable
 from aquagait.optimize.problem import GenerationReport, Problem, Result, Settings
+
+if TYPE_CHECKING:
+    import cma
 
 log = logging.getLogger(__name__)
 
@@ -162,6 +165,8 @@ def _begin(problem: Problem, settings: Settings, run_dir, resume: bool) -> _Run:
 
 def _strategy(problem: Problem, settings: Settings, group: np.ndarray, run: _Run):
     """A CMA-ES over `group`'s coordinates, started at the best point so far."""
+    import cma  # here, not at the top: workers import this package and need no pycma (1 s)
+
     width = problem.upper - problem.lower
     options = {
         "popsize": settings.popsize,
@@ -180,10 +185,20 @@ def _strategy(problem: Problem, settings: Settings, group: np.ndarray, run: _Run
     return cma.CMAEvolutionStrategy(run.best_x[group].tolist(), problem.sigma0, options)
 
 
+# pycma's criteria that read a flat fitness as convergence. Penalties are all
+# equal, so a generation whose samples were penalized (a worker died, every
+# sample infeasible) would otherwise end the run; it goes on instead.
+FLAT_FITNESS = {"tolfun", "tolfunhist", "tolflatfitness", "tolfunrel"}
+
+
 def _stop_reason(run: _Run, settings: Settings) -> str:
     if run.group_generations >= settings.generations:
         return f"generations ({settings.generations})"
-    return ", ".join(f"{key}={value}" for key, value in run.es.stop().items())
+    reasons = run.es.stop()
+    last = run.history[-1] if run.group_generations else None
+    if last is not None and last["failures"] + last["infeasible"] > 0:
+        reasons = {key: value for key, value in reasons.items() if key not in FLAT_FITNESS}
+    return ", ".join(f"{key}={value}" for key, value in reasons.items())
 
 
 def _end_group(run: _Run, reason: str, groups: int) -> None:

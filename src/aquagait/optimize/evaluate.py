@@ -108,7 +108,6 @@ def _evaluate_submitted(objective, xs, executor, retries, penalty) -> list[Outco
                     log.warning("sample %d lost (%s); resubmitting", i, why)
                     pending[_submit(executor, objective, xs[i])] = i
                 else:
-                    log.warning("sample %d lost (%s); it gets the penalty %g", i, why, penalty)
                     outcomes[i] = Outcome(penalty, LOST, why)
                 continue
             outcomes[i] = _outcome(value, message, penalty)

@@ -1,0 +1,248 @@
+"""Evaluators: serial, local processes and a real Dask cluster give the same result.
+
+The Dask tests start a scheduler and two workers as separate processes bound to
+127.0.0.1 (dashboards on 127.0.0.1 too, on free ports) and stop them after
+each test, whatever happens in it.
+"""
+
+import concurrent.futures as cf
+import importlib.util
+import json
+import multiprocessing
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from optimize_cases import DiesOnce, Slow, Sphere, sphere_problem, within
+
+from aquagait.optimize import (
+    ProcessExecutor,
+    Settings,
+    dask_executor,
+    evaluate,
+    local_executor,
+    optimize,
+)
+from aquagait.optimize.executors import available_cores
+
+HERE = Path(__file__).resolve().parent
+needs_dask = pytest.mark.skipif(
+    importlib.util.find_spec("distributed") is None,
+    reason="Dask's distributed is not installed (pip install 'aquagait[dist]')",
+)
+
+
+def same_run(a, b):
+    def without_time(history):
+        return [{k: v for k, v in row.items() if k != "elapsed"} for row in history]
+
+    assert without_time(a.history) == without_time(b.history)
+    assert np.array_equal(a.best_x, b.best_x) and a.best_f == b.best_f
+    assert a.evaluations == b.evaluations and a.stopped == b.stopped
+
+
+PROBLEM = sphere_problem(4, feasible=within)
+SETTINGS = Settings(popsize=8, generations=12, seed=5)
+
+
+def test_serial_and_process_pools_give_the_same_result():
+    serial = optimize(PROBLEM, SETTINGS)
+    with local_executor(2) as executor:
+        processes = optimize(PROBLEM, SETTINGS, executor)
+    context = multiprocessing.get_context("forkserver")
+    with cf.ProcessPoolExecutor(2, mp_context=context) as executor:
+        plain = optimize(PROBLEM, SETTINGS, executor)
+    same_run(serial, processes)
+    same_run(serial, plain)
+
+
+def test_values_are_placed_by_sample_index_not_by_completion():
+    def later_first(x):  # the first sample finishes last
+        time.sleep(0.05 * (3 - x[0]))
+        return float(x[0])
+
+    xs = [np.array([float(i)]) for i in range(4)]
+    with cf.ThreadPoolExecutor(4) as executor:
+        outcomes = evaluate(later_first, xs, executor)
+    assert [o.value for o in outcomes] == [0.0, 1.0, 2.0, 3.0]
+    assert [o.status for o in outcomes] == ["ok"] * 4
+
+
+def test_an_executor_with_only_map_works():
+    class MapOnly:
+        def map(self, fn, *iterables):
+            return map(fn, *iterables)
+
+    same_run(optimize(PROBLEM, SETTINGS), optimize(PROBLEM, SETTINGS, MapOnly()))
+
+
+def test_a_dead_worker_process_is_replaced_and_its_sample_retried(tmp_path, caplog):
+    serial = optimize(PROBLEM, SETTINGS)
+    dies = sphere_problem(4, DiesOnce(Sphere(np.ones(4)), str(tmp_path / "died")), feasible=within)
+    with ProcessExecutor(2) as executor:
+        result = optimize(dies, SETTINGS, executor)
+    assert (tmp_path / "died").exists()
+    assert "resubmitting" in caplog.text
+    same_run(serial, result)  # the retried samples got their true values
+
+
+def test_without_retries_a_lost_sample_gets_the_penalty_and_the_run_goes_on(tmp_path):
+    dies = sphere_problem(4, DiesOnce(Sphere(np.ones(4)), str(tmp_path / "died")), feasible=within)
+    settings = Settings(popsize=8, generations=12, seed=5, retries=0, penalty=1e3)
+    with ProcessExecutor(2) as executor:
+        result = optimize(dies, settings, executor)
+    failures = [row["failures"] for row in result.history]
+    assert failures[0] >= 1 and sum(failures[1:]) == 0
+    assert result.generations == 12 and result.best_f < 1
+
+
+def test_an_objective_that_cannot_be_pickled_is_refused_up_front():
+    problem = sphere_problem(2, lambda x: 0.0)
+    with ProcessExecutor(1) as executor:
+        with pytest.raises(TypeError, match="cannot be sent to worker processes"):
+            optimize(problem, SETTINGS, executor)
+
+
+def test_the_local_executor_uses_every_core_by_default():
+    with local_executor() as executor:
+        assert executor.workers == available_cores()
+    with pytest.raises(ValueError, match="workers must be a positive integer"):
+        local_executor(0)
+
+
+def test_dask_without_the_extra_says_what_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    with pytest.raises(ImportError, match=r"pip install 'aquagait\[dist\]'"):
+        dask_executor("tcp://127.0.0.1:8786")
+
+
+@needs_dask
+def test_dask_at_an_address_where_nothing_listens_is_a_clear_error():
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    with pytest.raises(ConnectionError, match="could not reach a Dask scheduler"):
+        dask_executor(f"tcp://127.0.0.1:{port}", timeout=1)
+
+
+class Cluster:
+    """A Dask scheduler and workers, each a process started here, on 127.0.0.1."""
+
+    def __init__(self, directory: Path):
+        self.directory = directory
+        self.env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(HERE), *sys.path])}
+        self.processes: list[subprocess.Popen] = []
+        self.workers: list[subprocess.Popen] = []
+        self.address = ""
+
+    def _start(self, module: str, *arguments: str) -> subprocess.Popen:
+        log = (self.directory / f"{module.rsplit('.', 1)[-1]}-{len(self.processes)}.log").open("w")
+        process = subprocess.Popen(
+            [sys.executable, "-m", module, *arguments],
+            cwd=self.directory,
+            env=self.env,
+            stdin=subprocess.DEVNULL,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+        )
+        log.close()  # the child keeps its own descriptor
+        self.processes.append(process)
+        return process
+
+    def start(self, workers: int = 2) -> None:
+        scheduler_file = self.directory / "scheduler.json"
+        local = ("--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0", "--no-dashboard")
+        scheduler = self._start(
+            "distributed.cli.dask_scheduler",
+            *local,
+            *("--port", "0", "--scheduler-file", str(scheduler_file), "--no-jupyter"),
+        )
+        deadline = time.monotonic() + 30
+        while not self.address:
+            if scheduler.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError(f"the Dask scheduler did not start: {self.logs()}")
+            try:
+                self.address = json.loads(scheduler_file.read_text())["address"]
+            except (FileNotFoundError, json.JSONDecodeError, KeyError):
+                time.sleep(0.05)
+        for _ in range(workers):
+            self.workers.append(
+                self._start(
+                    "distributed.cli.dask_worker",
+                    self.address,
+                    *local,
+                    *("--nthreads", "1", "--no-nanny", "--local-directory", str(self.directory)),
+                )
+            )
+
+    def logs(self) -> str:
+        return "\n".join(path.read_text() for path in sorted(self.directory.glob("*.log")))
+
+    def stop(self) -> None:
+        """Workers first, then the scheduler (stopping both at once can hang a worker)."""
+        _stop([p for p in self.processes if p in self.workers])
+        _stop([p for p in self.processes if p not in self.workers])
+
+
+def _stop(processes: list[subprocess.Popen]) -> None:
+    """SIGTERM, then SIGKILL whatever is still running after 5 s."""
+    for process in processes:
+        if process.poll() is None:
+            process.terminate()
+    for process in processes:
+        try:
+            process.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait(timeout=5)
+
+
+@pytest.fixture
+def dask_cluster(tmp_path):
+    cluster = Cluster(tmp_path)
+    try:
+        cluster.start(workers=2)
+        yield cluster
+    finally:
+        cluster.stop()
+
+
+@needs_dask
+def test_dask_gives_the_same_result_as_serial(dask_cluster):
+    from distributed import Client
+
+    serial = optimize(PROBLEM, SETTINGS)
+    with dask_executor(dask_cluster.address) as executor:
+        executor.client.wait_for_workers(2, timeout=30)
+        assert executor.workers == 2
+        same_run(serial, optimize(PROBLEM, SETTINGS, executor))
+    with Client(dask_cluster.address, timeout=30, set_as_default=False) as client:
+        same_run(serial, optimize(PROBLEM, SETTINGS, client))  # a Client itself will do
+
+
+@needs_dask
+def test_killing_a_dask_worker_mid_generation_does_not_stop_the_run(dask_cluster):
+    problem = sphere_problem(3, Slow(Sphere(np.ones(3)), 0.15))
+    settings = Settings(popsize=6, generations=4, seed=2)
+    victim = dask_cluster.workers[0]
+    timers = []
+
+    def kill_during_the_next_generation(report):
+        if report.generation == 1:  # generation 2 takes about 3 x 0.15 s on two workers
+            timers.append(threading.Timer(0.2, os.kill, (victim.pid, signal.SIGKILL)))
+            timers[-1].start()
+
+    with dask_executor(dask_cluster.address) as executor:
+        executor.client.wait_for_workers(2, timeout=30)
+        result = optimize(problem, settings, executor, progress=kill_during_the_next_generation)
+        assert victim.wait(timeout=5) == -signal.SIGKILL
+        assert executor.workers == 1
+    assert result.generations == 4 and sum(row["failures"] for row in result.history) == 0
+    same_run(optimize(sphere_problem(3), settings), result)
