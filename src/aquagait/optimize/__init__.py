@@ -12,6 +12,7 @@ exactly the result it would have reached.
         result = optimize(problem, Settings.for_dim(2), executor, run_dir="runs/eel2d")
 """
 
+from aquagait.optimize import checkpoint
 from aquagait.optimize.checkpoint import CHECKPOINT, LOG
 from aquagait.optimize.cmaes import optimize
 from aquagait.optimize.evaluate import Outcome, evaluate
@@ -33,6 +34,7 @@ __all__ = [
     "Problem",
     "Result",
     "Settings",
+    "checkpoint",
     "dask_executor",
     "evaluate",
     "local_executor",

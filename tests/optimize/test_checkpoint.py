@@ -1,0 +1,210 @@
+"""Checkpoints: a run killed at any moment, SIGKILL included, resumes to exactly its result."""
+
+import csv
+import os
+import pickle
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from optimize_cases import (
+    KILLED_SETTINGS,
+    Recorder,
+    Sphere,
+    killed_problem,
+    sphere_problem,
+    within,
+)
+
+from aquagait.optimize import CHECKPOINT, LOG, Settings, checkpoint, optimize
+
+HERE = Path(__file__).resolve().parent
+
+
+def same_run(a, b):
+    def without_time(history):
+        return [{k: v for k, v in row.items() if k != "elapsed"} for row in history]
+
+    np.testing.assert_equal(without_time(a.history), without_time(b.history))  # nan == nan
+    assert np.array_equal(a.best_x, b.best_x) and a.best_f == b.best_f
+    assert a.evaluations == b.evaluations and a.stopped == b.stopped
+
+
+def log_without_time(run_dir: Path) -> list[dict]:
+    with (run_dir / LOG).open() as file:
+        return [{k: v for k, v in row.items() if k != "elapsed"} for row in csv.DictReader(file)]
+
+
+def saved_progress(run_dir: Path) -> tuple[int, int]:
+    """(generations, evaluations) in run_dir's checkpoint; (0, 0) before the first."""
+    try:
+        run = checkpoint.load(run_dir)["run"]
+    except FileNotFoundError:
+        return 0, 0
+    return len(run["history"]), run["evaluations"]
+
+
+def test_a_run_killed_with_sigkill_mid_generation_resumes_to_the_same_result(tmp_path):
+    run_dir, calls = tmp_path / "killed", tmp_path / "calls.txt"
+    output = (tmp_path / "output.txt").open("w")
+    script = [sys.executable, str(HERE / "optimize_cases.py"), str(run_dir), str(calls)]
+    process = subprocess.Popen(script, stdout=output, stderr=subprocess.STDOUT)
+    try:
+        deadline = time.monotonic() + 60
+        while True:  # until generation 2 is saved and generation 3 is 3 evaluations in
+            assert process.poll() is None, "it finished before it could be killed"
+            assert time.monotonic() < deadline, (tmp_path / "output.txt").read_text()
+            generations, evaluations = saved_progress(run_dir)
+            started = len(calls.read_text().splitlines()) if calls.exists() else 0
+            if generations >= 2 and started >= evaluations + 3:
+                break
+            time.sleep(0.005)
+        os.kill(process.pid, signal.SIGKILL)
+        assert process.wait(timeout=10) == -signal.SIGKILL
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait(timeout=10)
+        output.close()
+    generations, evaluations = saved_progress(run_dir)
+    started = len(calls.read_text().splitlines())
+    assert 2 <= generations < KILLED_SETTINGS.generations
+    assert started > evaluations  # it died in the middle of a generation
+
+    resumed = optimize(killed_problem(), KILLED_SETTINGS, run_dir=run_dir, resume=True)
+    whole = optimize(killed_problem(), KILLED_SETTINGS, run_dir=tmp_path / "whole")
+    same_run(resumed, whole)
+    assert resumed.generations == KILLED_SETTINGS.generations
+    assert sum(row["resamples"] for row in whole.history) > 0  # the redraws were replayed too
+    assert log_without_time(run_dir) == log_without_time(tmp_path / "whole")
+
+
+class Abort(BaseException):
+    """Stands for a kill: not an Exception, so no failure handler catches it."""
+
+
+class AbortAt:
+    """The objective, except that call number `at` aborts the run."""
+
+    def __init__(self, objective, at: int):
+        self.objective, self.at, self.calls = objective, at, 0
+
+    def __call__(self, x):
+        self.calls += 1
+        if self.calls == self.at:
+            raise Abort
+        return self.objective(x)
+
+
+GROUPS = (np.array([0, 1]), np.array([2, 3]))
+GROUPED = Settings(popsize=6, generations=5, seed=11)
+
+
+def grouped(objective=None):
+    objective = Sphere(np.ones(4)) if objective is None else objective
+    return sphere_problem(4, objective, feasible=within, groups=GROUPS)
+
+
+# Evaluations 1-30 are group 0's five generations, 31-60 group 1's.
+@pytest.mark.parametrize("at", [7, 12, 13, 30, 31, 36, 59])
+def test_a_run_aborted_mid_generation_resumes_to_the_same_result(tmp_path, at):
+    whole = optimize(grouped(), GROUPED)
+    with pytest.raises(Abort):
+        optimize(grouped(AbortAt(Sphere(np.ones(4)), at)), GROUPED, run_dir=tmp_path)
+    same_run(whole, optimize(grouped(), GROUPED, run_dir=tmp_path, resume=True))
+
+
+@pytest.mark.parametrize("after", [1, 5, 6, 9])
+def test_a_run_aborted_between_generations_resumes_to_the_same_result(tmp_path, after):
+    def abort_after(report):
+        if report.generation == after:
+            raise Abort
+
+    whole = optimize(grouped(), GROUPED)
+    with pytest.raises(Abort):
+        optimize(grouped(), GROUPED, run_dir=tmp_path, progress=abort_after)
+    assert saved_progress(tmp_path)[0] == after
+    same_run(whole, optimize(grouped(), GROUPED, run_dir=tmp_path, resume=True))
+
+
+def test_a_run_resumed_twice_still_matches(tmp_path):
+    whole = optimize(grouped(), GROUPED)
+    for at in (20, 25):  # the second abort is 25 calls into the first resumed session
+        with pytest.raises(Abort):
+            problem = grouped(AbortAt(Sphere(np.ones(4)), at))
+            optimize(problem, GROUPED, run_dir=tmp_path, resume=(tmp_path / CHECKPOINT).exists())
+    same_run(whole, optimize(grouped(), GROUPED, run_dir=tmp_path, resume=True))
+
+
+def test_a_finished_run_resumes_to_its_result_without_evaluating(tmp_path):
+    first = optimize(grouped(), GROUPED, run_dir=tmp_path)
+    recorder = Recorder(Sphere(np.ones(4)))
+    again = optimize(grouped(recorder), GROUPED, run_dir=tmp_path, resume=True)
+    same_run(first, again)
+    assert recorder.calls == []
+
+
+def test_a_checkpoint_with_other_settings_is_refused(tmp_path):
+    optimize(grouped(), GROUPED, run_dir=tmp_path)
+    other = Settings(popsize=8, generations=5, seed=11)
+    with pytest.raises(ValueError, match="popsize: 6 in the checkpoint, 8 now"):
+        optimize(grouped(), other, run_dir=tmp_path, resume=True)
+    with pytest.raises(ValueError, match="seed: 11 in the checkpoint, 12 now"):
+        optimize(
+            grouped(), Settings(popsize=6, generations=5, seed=12), run_dir=tmp_path, resume=True
+        )
+    with pytest.raises(ValueError, match="parameters: 4 in the checkpoint, 5 now"):
+        optimize(sphere_problem(5, groups=GROUPS), GROUPED, run_dir=tmp_path, resume=True)
+
+
+def test_resume_needs_a_checkpoint_and_a_new_run_never_overwrites_one(tmp_path):
+    with pytest.raises(FileNotFoundError, match="nothing to resume"):
+        optimize(grouped(), GROUPED, run_dir=tmp_path, resume=True)
+    with pytest.raises(ValueError, match="needs the run_dir"):
+        optimize(grouped(), GROUPED, resume=True)
+    optimize(grouped(), Settings(popsize=6, generations=1), run_dir=tmp_path)
+    with pytest.raises(FileExistsError, match="already holds an optimization checkpoint"):
+        optimize(grouped(), GROUPED, run_dir=tmp_path)
+
+
+def test_the_log_has_a_row_per_generation_and_the_best_parameters(tmp_path):
+    problem = sphere_problem(3, names=("amplitude", "phase", "period"))
+    result = optimize(problem, Settings(popsize=6, generations=4), run_dir=tmp_path)
+    with (tmp_path / LOG).open() as file:
+        rows = list(csv.DictReader(file))
+    assert list(rows[0])[:7] == [
+        "generation",
+        "group",
+        "evaluations",
+        "best",
+        "mean",
+        "sigma",
+        "elapsed",
+    ]
+    assert list(rows[0])[-3:] == ["amplitude", "phase", "period"]
+    assert [int(row["generation"]) for row in rows] == [1, 2, 3, 4]
+    assert [float(row["best"]) for row in rows] == [row["best"] for row in result.history]
+    assert [float(rows[-1][name]) for name in problem.names] == result.best_x.tolist()
+
+
+def test_writes_are_atomic_and_half_written_files_are_swept(tmp_path, monkeypatch):
+    optimize(grouped(), Settings(popsize=6, generations=1), run_dir=tmp_path)
+    before = (tmp_path / CHECKPOINT).read_bytes()
+
+    def killed_before_rename(source, target):
+        raise Abort  # as if the process died between writing and renaming
+
+    monkeypatch.setattr(os, "replace", killed_before_rename)
+    with pytest.raises(Abort):
+        checkpoint.save(tmp_path, {"run": "torn"})
+    monkeypatch.undo()
+    assert (tmp_path / CHECKPOINT).read_bytes() == before
+    assert list(tmp_path.glob(".checkpoint.pkl.*")) == []  # cleaned up on the way out
+    (tmp_path / ".checkpoint.pkl.abc123").write_bytes(b"half a pickle")  # a SIGKILL's leftover
+    optimize(grouped(), Settings(popsize=6, generations=1), run_dir=tmp_path, resume=True)
+    assert list(tmp_path.glob(".checkpoint.pkl.*")) == []
+    assert pickle.loads(before)["run"]["finished"]
