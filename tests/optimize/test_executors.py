@@ -246,3 +246,9 @@ def test_killing_a_dask_worker_mid_generation_does_not_stop_the_run(dask_cluster
         assert executor.workers == 1
     assert result.generations == 4 and sum(row["failures"] for row in result.history) == 0
     same_run(optimize(sphere_problem(3), settings), result)
+
+
+def test_workers_import_the_package_without_pycma():
+    # Workers unpickle `evaluate_sample` from aquagait.optimize; pycma costs them 1 s each.
+    code = "import sys, aquagait.optimize; assert 'cma' not in sys.modules, 'pycma imported'"
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
