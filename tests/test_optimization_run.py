@@ -29,6 +29,19 @@ def test_swim_objective_is_picklable_and_deterministic():
     assert objective(eel.default_gait) == clone(eel.default_gait)
 
 
+def test_swim_objective_gives_the_same_value_in_a_worker_process():
+    """What makes serial, process and Dask optimization agree: the simulation
+    itself is deterministic across processes, to the last bit."""
+    from aquagait.optimize import local_executor
+
+    objective = SwimObjective("eel2d", (48, 24), 0.025, seconds=0.5)
+    eel = ag.creatures.get("eel2d")
+    gaits = [eel.default_gait, np.clip(eel.default_gait * 1.1, eel.gait.lower, eel.gait.upper)]
+    with local_executor(2) as pool:
+        remote = list(pool.map(objective, gaits))
+    assert remote == [objective(g) for g in gaits]
+
+
 def test_joint_limits_are_checked_before_swimming():
     eel = ag.creatures.get("eel2d")
     feasible = JointLimits("eel2d")
