@@ -2,7 +2,7 @@
 
 Run as a script, it is the optimization that test_checkpoint.py kills with SIGKILL:
 
-    python optimize_cases.py RUN_DIR CALLS_FILE
+    python optimize_cases.py RUN_DIR CALLS_FILE HANG_AT
 """
 
 from __future__ import annotations
@@ -59,16 +59,19 @@ class Recorder:
 
 
 class Slow:
-    """Sleeps, optionally appends a line to `calls` (a file), then evaluates."""
+    """Sleeps, then evaluates; optionally appends its process id to the file `calls`
+    as each call starts, and hangs on call number `hang_at` (to be killed there)."""
 
-    def __init__(self, objective, seconds: float, calls: str | None = None):
-        self.objective, self.seconds, self.calls = objective, seconds, calls
+    def __init__(self, objective, seconds: float, calls: str | None = None, hang_at: int = 0):
+        self.objective, self.seconds, self.calls, self.hang_at = objective, seconds, calls, hang_at
+        self.count = 0
 
     def __call__(self, x):
+        self.count += 1
         if self.calls:
             with open(self.calls, "a") as file:
-                file.write("call\n")
-        time.sleep(self.seconds)
+                file.write(f"{os.getpid()}\n")
+        time.sleep(600 if self.count == self.hang_at else self.seconds)
         return self.objective(x)
 
 
@@ -120,14 +123,14 @@ def sphere_problem(n: int = 4, objective=None, **fields) -> Problem:
 KILLED_SETTINGS = Settings(popsize=8, generations=12, seed=7)
 
 
-def killed_problem(calls: str | None = None, seconds: float = 0.0) -> Problem:
+def killed_problem(calls: str | None = None, seconds: float = 0.0, hang_at: int = 0) -> Problem:
     objective = RotatedEllipsoid(np.linspace(-1, 1, 5), cond=1e3)
     if seconds or calls:
-        objective = Slow(objective, seconds, calls)
+        objective = Slow(objective, seconds, calls, hang_at)
     lower, upper = -4 * np.ones(5), 4 * np.ones(5)
     return Problem(objective, np.zeros(5), lower, upper, sigma0=1.0, feasible=within)
 
 
 if __name__ == "__main__":
-    run_dir, calls = Path(sys.argv[1]), sys.argv[2]
-    optimize(killed_problem(calls, seconds=0.03), KILLED_SETTINGS, run_dir=run_dir)
+    run_dir, calls, hang_at = Path(sys.argv[1]), sys.argv[2], int(sys.argv[3])
+    optimize(killed_problem(calls, 0.01, hang_at), KILLED_SETTINGS, run_dir=run_dir)

@@ -50,19 +50,18 @@ def saved_progress(run_dir: Path) -> tuple[int, int]:
 
 def test_a_run_killed_with_sigkill_mid_generation_resumes_to_the_same_result(tmp_path):
     run_dir, calls = tmp_path / "killed", tmp_path / "calls.txt"
+    # Generations evaluate 8 samples each (no sample hits the resampling cap), so the
+    # 19th call is the 3rd of generation 3: the objective hangs there until killed.
+    hang_at = 2 * KILLED_SETTINGS.popsize + 3
     output = (tmp_path / "output.txt").open("w")
     script = [sys.executable, str(HERE / "optimize_cases.py"), str(run_dir), str(calls)]
-    process = subprocess.Popen(script, stdout=output, stderr=subprocess.STDOUT)
+    process = subprocess.Popen([*script, str(hang_at)], stdout=output, stderr=subprocess.STDOUT)
     try:
         deadline = time.monotonic() + 60
-        while True:  # until generation 2 is saved and generation 3 is 3 evaluations in
-            assert process.poll() is None, "it finished before it could be killed"
-            assert time.monotonic() < deadline, (tmp_path / "output.txt").read_text()
-            generations, evaluations = saved_progress(run_dir)
-            started = len(calls.read_text().splitlines()) if calls.exists() else 0
-            if generations >= 2 and started >= evaluations + 3:
-                break
-            time.sleep(0.005)
+        while not (calls.exists() and len(calls.read_text().splitlines()) >= hang_at):
+            assert process.poll() is None, (tmp_path / "output.txt").read_text()
+            assert time.monotonic() < deadline, "the run never reached the call to kill it in"
+            time.sleep(0.01)
         os.kill(process.pid, signal.SIGKILL)
         assert process.wait(timeout=10) == -signal.SIGKILL
     finally:
@@ -70,10 +69,7 @@ def test_a_run_killed_with_sigkill_mid_generation_resumes_to_the_same_result(tmp
             process.kill()
             process.wait(timeout=10)
         output.close()
-    generations, evaluations = saved_progress(run_dir)
-    started = len(calls.read_text().splitlines())
-    assert 2 <= generations < KILLED_SETTINGS.generations
-    assert started > evaluations  # it died in the middle of a generation
+    assert saved_progress(run_dir) == (2, 2 * KILLED_SETTINGS.popsize)  # died in generation 3
 
     resumed = optimize(killed_problem(), KILLED_SETTINGS, run_dir=run_dir, resume=True)
     whole = optimize(killed_problem(), KILLED_SETTINGS, run_dir=tmp_path / "whole")

@@ -228,21 +228,31 @@ def test_dask_gives_the_same_result_as_serial(dask_cluster):
 
 
 @needs_dask
-def test_killing_a_dask_worker_mid_generation_does_not_stop_the_run(dask_cluster):
-    problem = sphere_problem(3, Slow(Sphere(np.ones(3)), 0.15))
+def test_killing_a_dask_worker_mid_generation_does_not_stop_the_run(dask_cluster, tmp_path):
+    calls = tmp_path / "calls.txt"  # the worker's process id as each call starts
+    problem = sphere_problem(3, Slow(Sphere(np.ones(3)), 0.15, str(calls)))
     settings = Settings(popsize=6, generations=4, seed=2)
     victim = dask_cluster.workers[0]
-    timers = []
+    killed = threading.Event()
 
-    def kill_during_the_next_generation(report):
-        if report.generation == 1:  # generation 2 takes about 3 x 0.15 s on two workers
-            timers.append(threading.Timer(0.2, os.kill, (victim.pid, signal.SIGKILL)))
-            timers[-1].start()
+    def kill_the_victim_in_its_next_call(seen: int):
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:
+            if str(victim.pid) in calls.read_text().split()[seen:]:
+                os.kill(victim.pid, signal.SIGKILL)  # during a call that sleeps 0.15 s
+                killed.set()
+                return
+            time.sleep(0.002)
+
+    def after_generation_one(report):
+        if report.generation == 1:
+            seen = len(calls.read_text().split())
+            threading.Thread(target=kill_the_victim_in_its_next_call, args=(seen,)).start()
 
     with dask_executor(dask_cluster.address) as executor:
         executor.client.wait_for_workers(2, timeout=30)
-        result = optimize(problem, settings, executor, progress=kill_during_the_next_generation)
-        assert victim.wait(timeout=5) == -signal.SIGKILL
+        result = optimize(problem, settings, executor, progress=after_generation_one)
+        assert killed.is_set() and victim.wait(timeout=5) == -signal.SIGKILL
         assert executor.workers == 1
     assert result.generations == 4 and sum(row["failures"] for row in result.history) == 0
     same_run(optimize(sphere_problem(3), settings), result)

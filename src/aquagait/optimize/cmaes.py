@@ -240,22 +240,26 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
         best = min(succeeded, key=lambda i: values[i])  # the first of equals: order-independent
         if values[best] < run.best_f:
             run.best_f, run.best_x = float(values[best]), full(samples[best])
-    run.history.append(
-        {
-            "generation": generation,
-            "group": run.group,
-            "evaluations": run.evaluations,
-            "best": run.best_f,
-            "mean": float(np.mean(values[succeeded])) if succeeded else math.nan,
-            "generation_best": float(np.min(values[succeeded])) if succeeded else math.nan,
-            "sigma": float(run.es.sigma),
-            "failures": len(todo) - len(succeeded),
-            "infeasible": len(infeasible),
-            "resamples": resamples,
-            "elapsed": run.elapsed,
-            "best_x": run.best_x.tolist(),
-        }
-    )
+    counts = {"failures": len(todo) - len(succeeded), "infeasible": len(infeasible)}
+    run.history.append(_record(run, values[succeeded], resamples=resamples, **counts))
+
+
+def _record(run: _Run, succeeded: np.ndarray, **counts: int) -> dict:
+    """One row of the history: the run after a generation whose good values are `succeeded`."""
+    return {
+        "generation": len(run.history) + 1,
+        "group": run.group,
+        "evaluations": run.evaluations,
+        "best": run.best_f,
+        "mean": float(np.mean(succeeded)) if succeeded.size else math.nan,
+        "generation_best": float(np.min(succeeded)) if succeeded.size else math.nan,
+        "sigma": float(run.es.sigma),
+        "failures": counts["failures"],
+        "infeasible": counts["infeasible"],
+        "resamples": counts["resamples"],
+        "elapsed": run.elapsed,
+        "best_x": run.best_x.tolist(),
+    }
 
 
 def _reject_infeasible(es, samples, full, feasible, settings: Settings) -> tuple[set[int], int]:
