@@ -13,7 +13,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "aquagait"
 LAYERS = [
     {"grid"},
     {"fluid", "body"},
-    {"coupling"},
+    {"coupling", "drag"},
     {"sim"},
     {"control"},
     {"objectives", "metrics"},

@@ -42,8 +42,8 @@ def test_scene_grid_defaults_to_the_creature_and_is_centred_on_it(creature):
 
 
 def test_scene_arguments_are_checked(creature):
-    with pytest.raises(ValueError, match="'simple' is not implemented yet; available now: none"):
-        ag.make_scene(creature, fluid="simple")
+    with pytest.raises(ValueError, match="drag_coefficient must be >= 0"):
+        ag.make_scene(creature, fluid="simple", drag_coefficient=-1)
     with pytest.raises(ValueError, match="'euler' needs a grid"):
         ag.make_scene(creature.model, fluid="euler")
     with pytest.raises(ValueError, match="unknown fluid 'water'"):

@@ -1,10 +1,13 @@
 """Simulation: a fixed ``Scene``, a changing ``State``, ``step`` and ``rollout`` (DESIGN.md §3, §4).
 
-Two fluids so far. ``fluid="none"`` (vacuum): the body moves under its own
-joint forces alone. ``fluid="euler"``: the body swims in the inviscid fluid
-of ``aquagait.fluid``, two-way coupled through one pressure solve
-(``aquagait.coupling``, paper §3.3). One coupled step reads like the paper's
-algorithm box (``euler_step``):
+Three fluids. ``fluid="none"`` (vacuum): the body moves under its own
+joint forces alone. ``fluid="simple"`` (paper §7, DESIGN.md §2.6): no grid;
+every surface patch that moves into the still water feels the quadratic drag
+``-k rho A v_n^2 n`` (``aquagait.drag``), added explicitly to the joint forces
+of a vacuum step (``simple_step``). ``fluid="euler"``: the body swims in the
+inviscid fluid of ``aquagait.fluid``, two-way coupled through one pressure
+solve (``aquagait.coupling``, paper §3.3). One coupled step reads like the
+paper's algorithm box (``euler_step``):
 
     voxelize the links at q^n            solid cells, coupled faces
     advect the fluid                      u* (faces in the body carry its velocity)
@@ -44,24 +47,30 @@ import numpy as np
 
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
+from aquagait.body.surface import Surface, body_surface
 from aquagait.body.voxelize import BodyShape, Voxels, body_shape, voxelize
 from aquagait.coupling import face_area, rigid_faces_, solve_coupled
+from aquagait.drag import DRAG_COEFFICIENT, drag_force
 from aquagait.fluid.advection import advect_velocity
 from aquagait.fluid.operators import cell_centered
 from aquagait.fluid.shift import recentre_offset, shift
 from aquagait.grid import Grid, max_speed
 
-FLUIDS_NOW = ("none", "euler")
-FLUIDS_LATER = ("simple",)
+FLUIDS_NOW = ("none", "euler", "simple")
+FLUIDS_LATER = ()
 FRAMES_PER_SECOND = 30
 CFL = 1.0
 """Courant number of the coupled steps ``rollout`` takes."""
 
-MAX_DT = {"none": 1 / 300, "euler": 1 / 90}
+MAX_DT = {"none": 1 / 300, "euler": 1 / 90, "simple": 1 / 300}
 """Default longest step [s]. In the fluid, three steps a frame: against steps of
 1/300 s, the eel's and the fish's distance over 1.5-2 s differ by 0.9% and
 1.3%, their energy by 4% and 9% (first order in dt); the stable PD allows up
-to about 1/45 s (``aquagait.control.pd``)."""
+to about 1/45 s (``aquagait.control.pd``). The simple fluid's drag is
+explicit: a patch of area A on a link of mass m moving at v loses the fraction
+``dt k rho A v / m`` of its speed a step, which must stay well below 1 (for a
+neutrally buoyant plate of thickness t, ``dt k v / t``: at 1/300 s, 0.1 for the
+fish's 3 mm tail fin at 1 m/s)."""
 
 SMALLEST_STEP = 1e-3
 """A CFL step below this fraction of ``dt`` means the flow has blown up."""
@@ -78,12 +87,15 @@ class Scene:
     Attributes:
         model: the creature.
         dynamics: its MuJoCo adapter.
-        fluid: 'none' (vacuum) for now.
+        fluid: 'none' (vacuum), 'euler' or 'simple' (module docstring).
         grid: the fluid grid at the start, centred on the creature, or None
-            when no resolution and cell size are known (a bare model in vacuum).
+            when no resolution and cell size are known (a bare model in vacuum
+            or the simple fluid; there it only frames pictures).
         density: fluid density rho [kg/m^3] (water).
         shape: the links' geometry for voxelizing (Euler fluid only).
         area: a coupled face's area A [m^2] (Euler fluid only).
+        surface: the links' surface patches (simple fluid only).
+        drag_coefficient: k of the simple fluid's drag ``-k rho A v_n^2 n``.
     """
 
     model: Model
@@ -93,6 +105,8 @@ class Scene:
     density: float = 1000.0
     shape: BodyShape | None = None
     area: float | None = None
+    surface: Surface | None = None
+    drag_coefficient: float = DRAG_COEFFICIENT
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,7 +184,12 @@ class Trajectory:
 
 
 def make_scene(
-    creature_or_model, resolution=None, cell_size=None, fluid: str = "none", origin=None
+    creature_or_model,
+    resolution=None,
+    cell_size=None,
+    fluid: str = "none",
+    origin=None,
+    drag_coefficient: float = DRAG_COEFFICIENT,
 ) -> Scene:
     """Build a scene for a creature (or a bare model).
 
@@ -181,10 +200,11 @@ def make_scene(
         resolution: cells per axis, (nx, ny) in 2D or (nx, ny, nz) in 3D;
             default: the creature's.
         cell_size: h [m]; default: the creature's.
-        fluid: 'none' (vacuum) or 'euler' (the coupled inviscid fluid);
-            'simple' (drag only) is planned.
+        fluid: 'none' (vacuum), 'euler' (the coupled inviscid fluid) or
+            'simple' (surface drag only; needs no grid).
         origin: the grid's lower corner [m], one entry per axis; default: the
             grid is centred on the creature's centre of mass.
+        drag_coefficient: k of the simple fluid (``aquagait.drag``), >= 0.
 
     Returns:
         The scene; its grid is None when no resolution and cell size are known.
@@ -212,6 +232,13 @@ def make_scene(
         grid = Grid(shape=resolution, cell_size=cell_size, origin=tuple(origin))
     if fluid == "none":
         return Scene(model=model, dynamics=dynamics, fluid=fluid, grid=grid)
+    if fluid == "simple":
+        if not (np.isfinite(drag_coefficient) and drag_coefficient >= 0):
+            raise ValueError(f"drag_coefficient must be >= 0, got {drag_coefficient!r}")
+        return Scene(
+            model, dynamics, fluid, grid, surface=body_surface(model),
+            drag_coefficient=float(drag_coefficient),
+        )  # fmt: skip
     if grid is None:
         raise ValueError(
             f"fluid {fluid!r} needs a grid: give resolution and cell_size for {model.source}"
@@ -258,8 +285,8 @@ def init_state(scene: Scene, qpos=None, qvel=None) -> State:
                 )
     zeros = np.zeros(model.nv)
     state = State(time=0.0, qpos=qpos, qvel=qvel, torque=zeros, energy=zeros.copy())
-    if scene.fluid == "none":
-        return state
+    if scene.fluid != "euler":
+        return state  # no fluid fields to hold
     grid = scene.grid
     velocity = grid.zeros_velocity()
     rigid_faces_(grid, velocity, _voxels(scene, grid, qpos), _point_velocity(scene, qpos, qvel))
@@ -291,6 +318,21 @@ def vacuum_step(scene: Scene, state: State, dt: float, policy=None) -> State:
     return _move_body(scene, state, dt, tau, damping, qvel)
 
 
+def simple_step(scene: Scene, state: State, dt: float, policy=None) -> State:
+    """One step in the simple fluid: a vacuum step with the surface drag added (DESIGN.md §2.6).
+
+    The drag is evaluated at the start of the step (explicit; see ``MAX_DT``)
+    and joins the policy's force in ``predict_body``; the energy counts only
+    the actuators' work, as in the other fluids.
+    """
+    tau, damping = servo_forces(scene, state, dt, policy)
+    drag = drag_force(scene.surface, scene.dynamics, state.qpos, state.qvel, scene.density,
+                      scene.drag_coefficient)  # fmt: skip
+    qdd = predict_body(scene, state, dt, tau + drag, damping)
+    qvel = state.qvel + dt * qdd
+    return _move_body(scene, state, dt, tau, damping, qvel)
+
+
 def euler_step(scene: Scene, state: State, dt: float, policy=None) -> State:
     """One two-way coupled step in the inviscid fluid (module docstring, DESIGN.md §2.3)."""
     grid, q = state.grid, state.qpos
@@ -305,7 +347,7 @@ def euler_step(scene: Scene, state: State, dt: float, policy=None) -> State:
     return _follow(scene, replace(moved, velocity=solved.velocity, pressure=solved.pressure))
 
 
-_STEPPERS = {"none": vacuum_step, "euler": euler_step}
+_STEPPERS = {"none": vacuum_step, "euler": euler_step, "simple": simple_step}
 
 
 def _coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping):
@@ -434,7 +476,8 @@ def rollout(
 
     Returns:
         The trajectory, ``round(seconds * fps) + 1`` frames including the start;
-        in a fluid it carries the fluid plane of every frame.
+        in the Euler fluid it carries the fluid plane of every frame (the
+        simple fluid has no flow to record).
     Raises:
         SimulationDiverged: the state stopped being finite, or the flow grew so
             fast that the CFL step fell below ``SMALLEST_STEP * dt``.
@@ -459,7 +502,7 @@ def rollout(
         energy=np.stack([s.energy for s in frames]),
         dt=dt,
         fps=float(fps),
-        fluid=_fluid_frames(scene, frames) if record_fluid and scene.fluid != "none" else None,
+        fluid=_fluid_frames(scene, frames) if record_fluid and scene.fluid == "euler" else None,
     )
 
 
