@@ -27,7 +27,7 @@ def test_library_lists_the_paper_creatures():
 
 def test_unknown_creature_lists_the_known_ones():
     with pytest.raises(
-        UnknownCreatureError, match="unknown creature 'shark'; known creatures: eel2d"
+        UnknownCreatureError, match="unknown creature 'shark'; known creatures: accordion2d, eel2d"
     ):
         get("shark")
 
@@ -135,7 +135,8 @@ def test_format_table_and_the_cli_list_the_library(capsys):
     lines = format_table().splitlines()
     assert lines[0].split() == ["name", "dim", "DOFs", "optimized", "parameters", "default",
                                 "grid", "cell", "size"]  # fmt: skip
-    assert lines[1].split() == ["eel2d", "2D", "4", "8", "128x64", "10", "mm"]
-    assert lines[2].split() == ["fish", "3D", "3", "6", "64x32x32", "5", "mm"]
+    assert lines[1].split() == ["accordion2d", "2D", "10", "1", "192x96", "4", "mm"]
+    assert lines[2].split() == ["eel2d", "2D", "4", "8", "128x64", "10", "mm"]
+    assert lines[3].split() == ["fish", "3D", "3", "6", "64x32x32", "5", "mm"]
     assert cli.main(["creatures"]) == 0
     assert capsys.readouterr().out.strip() == format_table()

@@ -143,7 +143,9 @@ def _write(path, text):
 
 
 def test_swim_settings_are_checked_before_simulating(tmp_path, eel):
-    with pytest.raises(SwimSetupError, match="unknown creature 'eal'; known creatures: eel2d"):
+    with pytest.raises(
+        SwimSetupError, match="unknown creature 'eal'; known creatures: accordion2d, eel2d"
+    ):
         prepare_swim("eal")
     with pytest.raises(SwimSetupError, match="has 3 entries but .* is 2D"):
         prepare_swim("eel2d", fluid="none", resolution=(8, 8, 8))
