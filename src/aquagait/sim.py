@@ -70,7 +70,9 @@ to about 1/45 s (``aquagait.control.pd``). The simple fluid's drag is
 explicit: a patch of area A on a link of mass m moving at v loses the fraction
 ``dt k rho A v / m`` of its speed a step, which must stay well below 1 (for a
 neutrally buoyant plate of thickness t, ``dt k v / t``: at 1/300 s, 0.1 for the
-fish's 3 mm tail fin at 1 m/s)."""
+fish's 3 mm tail fin at 1 m/s). At 1/300 s the eel's and the fish's distance
+over 2 s are 1.5% and 2.6% short of their dt -> 0 limit, their energy 2%
+(first order in dt); at 1/90 s they still swim, 7% and 11% short."""
 
 SMALLEST_STEP = 1e-3
 """A CFL step below this fraction of ``dt`` means the flow has blown up."""
