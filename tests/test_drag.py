@@ -11,6 +11,7 @@ import aquagait as ag
 from aquagait.body import Dynamics, load_model
 from aquagait.body.surface import body_surface
 from aquagait.drag import DRAG_COEFFICIENT, drag_force, patch_forces
+from aquagait.io.optimize import SwimObjective
 
 RHO = 1000.0
 K = DRAG_COEFFICIENT
@@ -176,6 +177,8 @@ def test_the_eel_swims_forward_in_the_simple_fluid():
     print(f"eel2d, default gait, simple fluid: {end[0] - start[0]:.3f} m forward in 2 s")
     assert end[0] - start[0] > 0.1 * creature.model.body_length
     assert abs(end[1] - start[1]) < 0.2 * (end[0] - start[0])
+    objective = SwimObjective("eel2d", None, None, fluid="simple")  # the optimizer's seam
+    assert objective(creature.default_gait) < 0  # forward is rewarded
 
 
 def test_simple_scene_needs_no_grid_and_keeps_one_if_given():

@@ -94,7 +94,9 @@ class Scene:
             when no resolution and cell size are known (a bare model in vacuum
             or the simple fluid; there it only frames pictures).
         density: fluid density rho [kg/m^3] (water).
-        shape: the links' geometry for voxelizing (Euler fluid only).
+        shape: the links' geometry for voxelizing (Euler fluid; the simple
+            fluid keeps it when it has a grid, so that the objective's
+            collision term sees the same shape in both fluids).
         area: a coupled face's area A [m^2] (Euler fluid only).
         surface: the links' surface patches (simple fluid only).
         drag_coefficient: k of the simple fluid's drag ``-k rho A v_n^2 n``.
@@ -237,8 +239,9 @@ def make_scene(
     if fluid == "simple":
         if not (np.isfinite(drag_coefficient) and drag_coefficient >= 0):
             raise ValueError(f"drag_coefficient must be >= 0, got {drag_coefficient!r}")
+        shape = None if grid is None else body_shape(model, grid.cell_size)
         return Scene(
-            model, dynamics, fluid, grid, surface=body_surface(model),
+            model, dynamics, fluid, grid, shape=shape, surface=body_surface(model),
             drag_coefficient=float(drag_coefficient),
         )  # fmt: skip
     if grid is None:
