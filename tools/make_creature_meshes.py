@@ -193,7 +193,7 @@ def fish_xml() -> str:
 # accordion2d: an imaginary creature (paper Figure 14), a head plate with two
 # mirrored zigzag arms of plates, like the two sides of a bellows.
 ACCORDION_PLATES, ACCORDION_PLATE = 5, (0.04, 0.006)  # per arm; length, thickness [m]
-ACCORDION_HEAD, ACCORDION_DEPTH, ACCORDION_FOLD_DEG = (0.03, 0.03), 0.04, 45
+ACCORDION_HEAD, ACCORDION_DEPTH, ACCORDION_FOLD_DEG = (0.05, 0.05), 0.04, 45
 ACCORDION_LIMIT_DEG = 60
 
 

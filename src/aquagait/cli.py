@@ -154,6 +154,50 @@ def _cmd_demo(args) -> int:
     return _optimize_and_swim(setup, out, args, True, swim_grid=(None, None), seconds=DEMO_SWIM)
 
 
+def _cmd_compare(args) -> int:
+    import json
+
+    from aquagait.io import SwimSetupError, write_swim
+    from aquagait.io.compare import cross_optimize, forward_distance, swim_both
+
+    grid = dict(resolution=args.resolution, cell_size=args.cell_size)
+    out = Path(args.out or Path("runs") / f"{args.name}-compare")
+    try:
+        runs = swim_both(args.name, args.gait, args.seconds, progress=_fluid_bar(), **grid)
+    except SwimSetupError as err:
+        return _fail("compare", err, status=2)
+    summary = {"gait": str(args.gait or "default"), "seconds": args.seconds, "swims": {}}
+    for fluid, run in runs.items():
+        write_swim(run, out / fluid)
+        summary["swims"][fluid] = {"distance": forward_distance(run), **run.metrics}
+        print(f"{fluid:>7} fluid: {forward_distance(run):+.4f} m along x, "
+              f"{run.metrics['body_lengths_per_cycle']:.3f} body lengths per cycle")  # fmt: skip
+    if not args.no_video:
+        from aquagait.viz import plot_displacement, render_side_by_side
+
+        model = next(iter(runs.values())).setup.creature.model
+        plot_displacement(runs, out / "displacement.png", title=args.name)
+        render_side_by_side(runs, model, out / "compare.mp4", progress=ProgressBar("rendering"))
+    if args.optimize:
+        print(f"optimizing {args.name} in each fluid ({args.optimize} generations)...",
+              file=sys.stderr)  # fmt: skip
+        with _executor(args) as executor:
+            summary["cross"] = cross_optimize(
+                args.name, args.optimize, args.seconds, executor=executor, **grid
+            )
+        for trained, swum in summary["cross"]["distance"].items():
+            row = ", ".join(f"in {fluid} {metres:+.4f} m" for fluid, metres in swum.items())
+            print(f"gait trained in the {trained} fluid swims {row}")
+    (out / "compare.json").write_text(json.dumps(summary, indent=2, default=float))
+    print(f"wrote {out}/")
+    return 0
+
+
+def _fluid_bar():
+    bars = {}
+    return lambda fluid, done, total: bars.setdefault(fluid, ProgressBar(fluid))(done, total)
+
+
 class GenerationLine:
     """``progress(report)`` of an optimization: one line per generation on stderr."""
 
@@ -257,6 +301,23 @@ def build_parser() -> argparse.ArgumentParser:
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=_cmd_optimize)
+
+    compare = commands.add_parser(
+        "compare", help="one gait in the Euler and the simple fluid: distances, plot, video"
+    )
+    compare.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
+    compare.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
+    compare.add_argument("--seconds", type=float, default=3.0, help="simulated time [s]")
+    compare.add_argument("--optimize", type=int, default=0, metavar="G",
+                         help="also optimize a gait in each fluid for G generations "
+                         "and swim each in both")  # fmt: skip
+    _add_evaluator_flags(compare)
+    compare.add_argument("--resolution", type=int, nargs="+", metavar="N",
+                         help="Euler grid cells per axis")  # fmt: skip
+    compare.add_argument("--cell-size", type=float, metavar="H", help="Euler cell size [m]")
+    compare.add_argument("--out", metavar="DIR", help="directory (default: runs/NAME-compare)")
+    compare.add_argument("--no-video", action="store_true", help="skip the plot and video")
+    compare.set_defaults(run=_cmd_compare)
 
     demo = commands.add_parser(
         "demo", help="optimize eel2d on a coarse grid, then swim and render the result"

@@ -90,7 +90,7 @@ def prepare_swim(
         gait: a ``gait.json`` path, a parameter vector, or None for the
             creature's default gait.
         seconds: simulated time [s], > 0.
-        fluid: 'euler' or 'none' (see ``aquagait.make_scene``).
+        fluid: 'euler', 'simple' or 'none' (see ``aquagait.make_scene``).
         resolution: cells per axis, default the creature's.
         cell_size: h [m], default the creature's.
         dt: largest time step [s], default ``rollout``'s.

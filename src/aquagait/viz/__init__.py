@@ -7,8 +7,17 @@ Reads Trajectory only; matplotlib and imageio are imported inside the
 functions that draw, so importing this package needs neither.
 """
 
+from aquagait.viz.compare import plot_displacement, render_side_by_side
 from aquagait.viz.convergence import plot_convergence
 from aquagait.viz.particles import particle_traces
 from aquagait.viz.swim import Look, render_swim, swim_frames
 
-__all__ = ["Look", "particle_traces", "plot_convergence", "render_swim", "swim_frames"]
+__all__ = [
+    "Look",
+    "particle_traces",
+    "plot_convergence",
+    "plot_displacement",
+    "render_side_by_side",
+    "render_swim",
+    "swim_frames",
+]
