@@ -205,3 +205,10 @@ def test_default_sigma_scales_with_each_coordinates_range():
     optimize(wide, Settings(popsize=200, generations=1))
     spread = np.array(recorder.calls).std(axis=0)
     assert spread[1] / spread[0] == pytest.approx(10, rel=0.3)
+
+
+def test_a_one_parameter_search_converges():
+    """One number (the accordion's gait) is a search pycma's step-size cap once broke."""
+    problem = Problem(lambda x: float((x[0] - 0.3) ** 2), [0.7], [0.0], [0.9])
+    result = optimize(problem, Settings(popsize=8, generations=40))
+    assert abs(result.best_x[0] - 0.3) < 1e-3

@@ -182,6 +182,10 @@ def _strategy(problem: Problem, settings: Settings, group: np.ndarray, run: _Run
         "verb_disp": 0,
         "verb_log": 0,
     }
+    if len(group) == 1:
+        # pycma 4.5 fails ("not yet initialized") whenever it caps the step size of a
+        # one-coordinate search; uncapped, BoundTransform still keeps samples in the box
+        options.update(maxstd_boundrange=math.inf, maxstd=math.inf)
     return cma.CMAEvolutionStrategy(run.best_x[group].tolist(), problem.sigma0, options)
 
 
