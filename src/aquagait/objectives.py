@@ -125,7 +125,14 @@ def _unit(direction, dim: int) -> np.ndarray:
     return d / np.linalg.norm(d)
 
 
+_SHAPES: dict[int, tuple[Model, BodyShape]] = {}
+
+
 def _shape(scene: Scene) -> BodyShape:
+    """A scene without voxel geometry (vacuum, simple fluid) gets it baked once per model."""
     from aquagait.body.voxelize import body_shape
 
-    return body_shape(scene.model, scene.model.body_length / COLLISION_POINTS)
+    model = scene.model
+    if id(model) not in _SHAPES or _SHAPES[id(model)][0] is not model:
+        _SHAPES[id(model)] = (model, body_shape(model, model.body_length / COLLISION_POINTS))
+    return _SHAPES[id(model)][1]

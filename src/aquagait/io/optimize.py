@@ -45,7 +45,7 @@ class SwimObjective:
         creature: library creature name (workers look it up by name).
         resolution: grid cells per axis, or None for the creature's default.
         cell_size: h [m], or None for the creature's default.
-        fluid: 'euler' (or 'none' to test the machinery in vacuum).
+        fluid: 'euler', 'simple' (drag only), or 'none' (vacuum, to test the machinery).
         seconds: simulated time per sample [s] (two cycles).
         direction: desired swimming direction, (dim,).
         weights: the objective's weights.
@@ -131,7 +131,7 @@ def prepare_optimization(
         popsize: samples per generation; default 16 in 2D, 31 in 3D.
         seed: random seed: the same seed gives the same gait, serial or parallel.
         resolution, cell_size: the fluid grid; default the creature's.
-        fluid: 'euler', or 'none'.
+        fluid: 'euler', 'simple' or 'none'.
         cycles: gait cycles simulated per sample.
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.

@@ -169,6 +169,7 @@ def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
         "period": setup.period,
         "seconds": setup.seconds,
         "fluid": setup.scene.fluid,
+        "drag_coefficient": setup.scene.drag_coefficient if setup.scene.fluid == "simple" else None,
         "density": setup.scene.density,
         "resolution": None if grid is None else list(grid.shape),
         "cell_size": None if grid is None else grid.cell_size,
