@@ -356,13 +356,11 @@ _STEPPERS = {"none": vacuum_step, "euler": euler_step, "simple": simple_step}
 
 
 def _coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping):
-    dynamics, q = scene.dynamics, state.qpos
-    mass_t = dynamics.mass_matrix(q)
-    mass_t[np.diag_indices_from(mass_t)] += dt * damping
-    jacobians = dynamics.point_jacobians(q, voxels.face_center, voxels.face_link)
+    q = state.qpos
+    jacobians = scene.dynamics.point_jacobians(q, voxels.face_center, voxels.face_link)
     return solve_coupled(
-        state.grid, voxels, advected, qvel_star, mass_t, jacobians, dt, scene.density,
-        scene.area, pressure=state.pressure,
+        state.grid, voxels, advected, qvel_star, servo_mass(scene, q, dt, damping), jacobians,
+        dt, scene.density, scene.area, pressure=state.pressure,
     )  # fmt: skip
 
 
@@ -423,12 +421,17 @@ def servo_forces(scene: Scene, state: State, dt: float, policy) -> tuple[np.ndar
     return tau, damping
 
 
+def servo_mass(scene: Scene, q, dt: float, damping) -> np.ndarray:
+    """``Mt = M(q) + dt Kd``, (nv, nv): the mass the stable PD's implicit damping adds to."""
+    mass = scene.dynamics.mass_matrix(q)
+    mass[np.diag_indices_from(mass)] += dt * damping
+    return mass
+
+
 def predict_body(scene: Scene, state: State, dt: float, tau, damping) -> np.ndarray:
     """Accelerations qdd (nv,) from ``(M + dt Kd) qdd = tau - c`` (DESIGN.md §2.2, step 2)."""
-    dynamics = scene.dynamics
-    mass = dynamics.mass_matrix(state.qpos)
-    mass[np.diag_indices_from(mass)] += dt * damping
-    force = tau - dynamics.bias(state.qpos, state.qvel)
+    mass = servo_mass(scene, state.qpos, dt, damping)
+    force = tau - scene.dynamics.bias(state.qpos, state.qvel)
     try:
         qdd = np.linalg.solve(mass, force)
     except np.linalg.LinAlgError:
