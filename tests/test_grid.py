@@ -1,9 +1,9 @@
-"""MAC grid geometry: coordinates, shapes, CFL, and the errors bad input gets."""
+"""MAC grid geometry: coordinates, shapes, CFL, sealed pockets, and the errors bad input gets."""
 
 import numpy as np
 import pytest
 
-from aquagait.grid import CFLError, Grid
+from aquagait.grid import CFLError, Grid, sealed
 
 
 def test_face_and_cell_coordinates_are_staggered():
@@ -79,3 +79,34 @@ def test_dt_far_beyond_cfl_is_refused_and_says_what_to_use():
         grid.check_dt((u, v), 1.0)
     with pytest.raises(ValueError, match="positive time"):
         grid.check_dt((u, v), -0.1)
+
+
+def distance(shape, centre: int, norm: str) -> np.ndarray:
+    """Integer distance of each cell from cell ``(centre, centre[, centre])``: "max" or "sum"."""
+    offsets = np.abs(np.indices(shape) - centre)
+    return offsets.max(axis=0) if norm == "max" else offsets.sum(axis=0)
+
+
+def test_fluid_inside_a_ring_is_sealed_and_a_one_cell_gap_opens_it():
+    d = distance((12, 10), 5, "max")  # a square ring of cells 2..8, inside the grid
+    solid = d == 3
+    np.testing.assert_array_equal(sealed(solid), d < 3)  # a 2D grid has no z border
+    solid[5, 2] = False  # a gap of one cell in the wall
+    assert not sealed(solid).any()
+
+
+def test_fluid_inside_a_closed_box_shell_is_sealed_and_a_one_cell_hole_opens_it():
+    d = distance((9, 9, 9), 4, "max")  # a cube shell of cells 1..7
+    solid = d == 3
+    np.testing.assert_array_equal(sealed(solid), d < 3)
+    solid[4, 4, 7] = False  # a hole of one cell in the lid
+    assert not sealed(solid).any()
+
+
+@pytest.mark.parametrize("shape", [(11, 11), (11, 11, 11)])
+def test_fluid_passes_between_cells_through_faces_not_edges_or_corners(shape):
+    # A diamond (octahedron) shell of cells that touch only at edges and corners: a
+    # step to a face neighbour changes the |i|+|j|+|k| distance by exactly one, so no
+    # face-connected path crosses it; a diagonal step would.
+    d = distance(shape, 5, "sum")
+    np.testing.assert_array_equal(sealed(d == 3), d < 3)

@@ -1,4 +1,4 @@
-"""MAC grid geometry: shapes, coordinates, index maths and the CFL time step.
+"""MAC grid geometry: shapes, coordinates, index maths, the CFL time step, flood fills.
 
 The grid is the lowest layer of aquagait and imports nothing of its own
 (DESIGN.md §3). It knows where things are, not what they do.
@@ -12,12 +12,15 @@ Layout (Harlow & Welch's marker-and-cell grid, paper §3.1):
 Cell ``(i, j[, k])`` has its centre at ``origin + (i + 1/2, j + 1/2[, k + 1/2]) h``;
 face ``i`` along axis 0 sits at ``origin[0] + i h``. A velocity field is a tuple
 of one float64 array per axis, ``(u, v)`` in 2D and ``(u, v, w)`` in 3D.
+
+Flood fills work on 3D arrays; a 2D grid is one layer along z, ``(nx, ny, 1)``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 Velocity = tuple[np.ndarray, ...]
@@ -198,3 +201,57 @@ class Grid:
 def max_speed(velocity: Velocity) -> float:
     """Largest absolute face velocity component [m/s]."""
     return float(max(max(c.max(), -c.min()) for c in velocity))  # no |c| temporary
+
+
+def sealed(solid: np.ndarray) -> np.ndarray:
+    """Fluid cells that cannot reach the grid's border through fluid: sealed pockets.
+
+    Fluid passes between cells that share a face (4 neighbours in 2D, 6 in
+    3D), never across an edge or corner alone. A pocket has no open-boundary
+    neighbour, so its block of the pressure Laplacian is singular (DESIGN.md §2.3).
+
+    Args:
+        solid: boolean cell mask, ``grid.shape`` (2D or 3D).
+    Returns:
+        a new boolean mask of that shape, True at every sealed fluid cell.
+    """
+    solid = np.ascontiguousarray(solid, dtype=np.bool_)
+    solid3 = solid.reshape(solid.shape + (1,) * (3 - solid.ndim))
+    reached = np.zeros(solid3.shape, dtype=np.bool_)
+    flood_from_border_(solid3, reached)
+    reached |= solid3
+    return ~reached.reshape(solid.shape)
+
+
+@numba.njit(cache=True)
+def flood_from_border_(solid, reached):
+    """Set ``reached`` at every fluid cell joined to the array's border by fluid, in place.
+
+    Args:
+        solid: (nx, ny, nz) bool; ``nz == 1`` is a 2D grid, whose z faces are
+            not border.
+        reached: (nx, ny, nz) bool, all False on entry.
+    """
+    nx, ny, nz = solid.shape
+    stack = np.empty((solid.size, 3), dtype=np.int64)  # each cell is pushed at most once
+    top = 0
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                border = i == 0 or i == nx - 1 or j == 0 or j == ny - 1
+                border = border or (nz > 1 and (k == 0 or k == nz - 1))
+                if border and not solid[i, j, k]:
+                    reached[i, j, k] = True
+                    stack[top, 0], stack[top, 1], stack[top, 2] = i, j, k
+                    top += 1
+    steps = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
+    while top > 0:
+        top -= 1
+        i, j, k = stack[top, 0], stack[top, 1], stack[top, 2]
+        for di, dj, dk in steps:
+            a, b, c = i + di, j + dj, k + dk
+            if 0 <= a < nx and 0 <= b < ny and 0 <= c < nz:
+                if not solid[a, b, c] and not reached[a, b, c]:
+                    reached[a, b, c] = True
+                    stack[top, 0], stack[top, 1], stack[top, 2] = a, b, c
+                    top += 1

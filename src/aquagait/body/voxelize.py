@@ -32,7 +32,7 @@ import numba
 import numpy as np
 
 from aquagait.body.shape import BodyShape, body_shape
-from aquagait.grid import Grid
+from aquagait.grid import Grid, flood_from_border_
 
 __all__ = ["BodyShape", "Voxels", "body_shape", "overlap_volume", "voxelize"]
 
@@ -332,7 +332,9 @@ def _seal_pockets_(owner, box):
 
     Only the solid's bounding box grown by one cell is searched: every cell
     outside the solid's box reaches the border in a straight line, so the
-    grown box's outer layer is open water (or the grid border itself).
+    grown box's outer layer is open water (or the grid border itself). In 3D
+    the grown box has at least two layers along z (a grid has two cells or
+    more per axis), so only a 2D grid's box is a single layer.
     """
     if box[3] < 0:
         return 0
@@ -340,45 +342,30 @@ def _seal_pockets_(owner, box):
     i0, i1 = _expanded(box, shape, 0)
     j0, j1 = _expanded(box, shape, 1)
     l0, l1 = _expanded(box, shape, 2)
-    reached = np.zeros((i1 - i0 + 1, j1 - j0 + 1, l1 - l0 + 1), dtype=np.bool_)
-    stack = np.empty((reached.size, 3), dtype=np.int64)
-    top = 0
+    solid = np.empty((i1 - i0 + 1, j1 - j0 + 1, l1 - l0 + 1), dtype=np.bool_)
     for i in range(i0, i1 + 1):
         for j in range(j0, j1 + 1):
             for l in range(l0, l1 + 1):
-                edge = i == i0 or i == i1 or j == j0 or j == j1
-                edge = edge or (shape[2] > 1 and (l == l0 or l == l1))
-                if edge and owner[i, j, l] < 0:
-                    reached[i - i0, j - j0, l - l0] = True
-                    stack[top, 0], stack[top, 1], stack[top, 2] = i, j, l
-                    top += 1
-    steps = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
-    while top > 0:
-        top -= 1
-        i, j, l = stack[top, 0], stack[top, 1], stack[top, 2]
-        for di, dj, dl in steps:
-            a, b, c = i + di, j + dj, l + dl
-            if i0 <= a <= i1 and j0 <= b <= j1 and l0 <= c <= l1:
-                if owner[a, b, c] < 0 and not reached[a - i0, b - j0, c - l0]:
-                    reached[a - i0, b - j0, c - l0] = True
-                    stack[top, 0], stack[top, 1], stack[top, 2] = a, b, c
-                    top += 1
+                solid[i - i0, j - j0, l - l0] = owner[i, j, l] >= 0
+    reached = np.zeros(solid.shape, dtype=np.bool_)
+    flood_from_border_(solid, reached)
     pockets = 0
     for i in range(i0, i1 + 1):
         for j in range(j0, j1 + 1):
             for l in range(l0, l1 + 1):
-                if owner[i, j, l] < 0 and not reached[i - i0, j - j0, l - l0]:
+                if not (solid[i - i0, j - j0, l - l0] or reached[i - i0, j - j0, l - l0]):
                     owner[i, j, l] = -2
                     pockets += 1
     if pockets:
-        _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1, steps)
+        _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1)
     return pockets
 
 
 @numba.njit(cache=True)
-def _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1, steps):
+def _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1):
     """Give cells marked -2 the owner of the nearest solid cell, breadth first."""
     nx, ny, nz = owner.shape
+    steps = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
     queue = np.empty((pockets, 3), dtype=np.int64)
     found = np.empty(pockets, dtype=np.int32)
     tail = 0

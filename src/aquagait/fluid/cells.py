@@ -12,8 +12,9 @@ A 2D grid of ``(nx, ny)`` cells becomes ``(nx + 2, ny + 2, 1)``: no ghosts along
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from aquagait.grid import sealed
 
 
 def padded_shape(shape: tuple[int, ...]) -> tuple[int, int, int]:
@@ -46,37 +47,6 @@ def seal_pockets(solid: np.ndarray) -> np.ndarray:
     Args:
         solid: boolean cell mask, ``grid.shape``.
     Returns:
-        a new mask, ``solid`` plus every enclosed fluid cell.
+        a new mask, ``solid`` plus every enclosed fluid cell (``grid.sealed``).
     """
-    solid3 = solid.reshape(solid.shape + (1,) * (3 - solid.ndim)).astype(np.bool_)
-    reached = np.zeros(solid3.shape, dtype=np.bool_)
-    _flood_from_boundary(solid3, reached)
-    return ~reached.reshape(solid.shape)
-
-
-@numba.njit(cache=True)
-def _flood_from_boundary(solid, reached):
-    nx, ny, nz = solid.shape
-    stack = np.empty((nx * ny * nz, 3), dtype=np.int64)
-    top = 0
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                on_border = i == 0 or j == 0 or i == nx - 1 or j == ny - 1
-                if nz > 1:
-                    on_border = on_border or k == 0 or k == nz - 1
-                if on_border and not solid[i, j, k]:
-                    reached[i, j, k] = True
-                    stack[top] = (i, j, k)
-                    top += 1
-    offsets = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
-    while top > 0:
-        top -= 1
-        i, j, k = stack[top]
-        for di, dj, dk in offsets:
-            a, b, c = i + di, j + dj, k + dk
-            if 0 <= a < nx and 0 <= b < ny and 0 <= c < nz:
-                if not solid[a, b, c] and not reached[a, b, c]:
-                    reached[a, b, c] = True
-                    stack[top] = (a, b, c)
-                    top += 1
+    return np.asarray(solid, dtype=np.bool_) | sealed(solid)
