@@ -1,5 +1,5 @@
 """Voxelizing links: volumes and surfaces against exact shapes, face bookkeeping, owners,
-pockets, meshes against primitives, the creatures' mass, and the overlap volume."""
+pockets, meshes against primitives, and the creatures' mass."""
 
 import pickle
 
@@ -9,7 +9,7 @@ import pytest
 import aquagait as ag
 from aquagait.body import Dynamics, load_model
 from aquagait.body.dynamics import describe, mesh_faces
-from aquagait.body.voxelize import Voxels, body_shape, overlap_volume, voxelize
+from aquagait.body.voxelize import Voxels, body_shape, voxelize
 from aquagait.fluid.cells import seal_pockets
 from aquagait.grid import Grid
 
@@ -445,56 +445,6 @@ def test_creature_volume_matches_its_mass(which, eel, fish):
     assert np.abs(errors).max() < (0.12 if which == "eel" else 0.09)
 
 
-# --- overlap volume -----------------------------------------------------------------
-
-
-@pytest.mark.parametrize("which", ["eel", "fish"])
-def test_no_overlap_at_the_reference_pose(which, eel, fish):
-    creature, shape = eel if which == "eel" else fish
-    model = creature.model
-    pos, rot = Dynamics(model.mj).link_poses(model.qpos0)
-    assert overlap_volume(shape, pos, rot, model.body_length / 100) == 0.0
-
-
-HALF = np.array([0.05, 0.015, 0.02])
-
-
-def chain(dim: int) -> str:
-    """Three boxes in a chain (a - b - c): a and c are not adjacent."""
-    half = np.append(HALF[:2], DEPTH / 2) if dim == 2 else HALF
-    size = " ".join(map(str, half))
-    inner = (
-        f'<geom type="box" size="{size}"/><body name="b" pos="-.1 0 0">'
-        f'<joint type="hinge" axis="0 0 1" range="-90 90"/><geom type="box" size="{size}"/>'
-        f'<body name="c" pos="-.1 0 0"><joint type="hinge" axis="0 0 1" range="-90 90"/>'
-        f'<geom type="box" size="{size}"/></body></body>'
-    )
-    return planar(inner) if dim == 2 else free(inner)
-
-
-@pytest.mark.parametrize("dim", [2, 3])
-def test_overlap_of_a_chain_folded_back_onto_itself(dim):
-    model = load_model(chain(dim))
-    shape = body_shape(model, 0.01)
-    rot = np.repeat(np.eye(3)[None], 3, axis=0)
-    shift = np.array([0.037, 0.011, 0.006 if dim == 3 else 0.0])
-    # c pushed into a (not adjacent); b deep into both (adjacent: does not count)
-    pos = np.array([[0, 0, 0], [0.02, 0.005, 0], shift])
-    if dim == 2:
-        exact = np.prod(2 * HALF[:2] - np.abs(shift[:2])) * DEPTH
-        lengths = 2 * HALF[:2] - np.abs(shift[:2])
-    else:
-        exact = np.prod(2 * HALF - np.abs(shift))
-        lengths = 2 * HALF - np.abs(shift)
-    spacing = 0.0007
-    # an axis-aligned box of side L holds L/s +- 1 lattice points per axis; the baked
-    # faces are exact away from the box edges, where they err by s_bake / 2
-    tolerance = exact * np.sum((spacing + shape.spacing) / lengths)
-    assert overlap_volume(shape, pos, rot, spacing) == pytest.approx(exact, abs=tolerance)
-    pos[2] = [-0.2, 0, 0]  # c back in line: only the adjacent pairs overlap
-    assert overlap_volume(shape, pos, rot, spacing) == 0.0
-
-
 # --- bad input ----------------------------------------------------------------------
 
 
@@ -515,8 +465,6 @@ def test_bad_input_is_refused_with_a_clear_message(eel, fish):
         voxelize(shape, Grid((8, 8, 8), 0.01), pos, rot)
     with pytest.raises(ValueError, match="rebuild it with body_shape"):
         voxelize(shape, Grid((8, 8), 0.001), pos, rot)
-    with pytest.raises(ValueError, match="spacing must be a positive length"):
-        overlap_volume(shape, pos, rot, 0.0)
     with pytest.raises(ValueError, match="cell_size must be a positive length"):
         body_shape(model, -0.01)
     fish_creature, fish_shape = fish

@@ -20,8 +20,8 @@ Rules:
 - The grid border is open water: faces on it are never coupled faces.
 - 2D: the planar body is cut at z = 0; its links turn about z only.
 
-``overlap_volume`` measures where non-adjacent links interpenetrate, the
-``E_collision`` term of the objective (DESIGN.md §2.4).
+The pose checks and the two sampling kernels (``cell_range``,
+``link_distance``) serve ``aquagait.body.overlap`` too.
 """
 
 from __future__ import annotations
@@ -34,10 +34,7 @@ import numpy as np
 from aquagait.body.shape import BodyShape, body_shape
 from aquagait.grid import Grid, flood_from_border_
 
-__all__ = ["BodyShape", "Voxels", "body_shape", "overlap_volume", "voxelize"]
-
-MAX_OVERLAP_SAMPLES = 50_000_000
-"""Most lattice points ``overlap_volume`` will count; ~100^3 is the usual budget."""
+__all__ = ["BodyShape", "Voxels", "body_shape", "voxelize"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,12 +96,12 @@ def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
             f"the body shape samples every {shape.spacing:.3g} m, too coarse for cells of "
             f"{grid.cell_size:.3g} m: rebuild it with body_shape(model, grid.cell_size)"
         )
-    pos, rot = _pose(shape, link_pos, link_rot)
+    pos, rot = checked_pose(shape, link_pos, link_rot)
     owner = np.full(_as_3d(grid.shape), -1, dtype=np.int32)
     box = np.empty(6, dtype=np.int64)
     origin, h = _origin_3d(grid.origin, grid.cell_size), grid.cell_size
     best = np.full(owner.shape, np.inf, dtype=np.float32)
-    _paint_owners_(*_baked(shape), rot, pos, origin, h, owner, best, box)
+    _paint_owners_(*baked_arrays(shape), rot, pos, origin, h, owner, best, box)
     _seal_pockets_(owner, box)
     axis, index, sign, cell, link = _coupled_faces(owner, box)
     dim = grid.dim
@@ -125,52 +122,10 @@ def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
     )
 
 
-def overlap_volume(shape: BodyShape, link_pos, link_rot, spacing: float) -> float:
-    """Volume where two or more non-adjacent links overlap [m^3] (DESIGN.md §2.4, E_collision).
-
-    Counts the points of a lattice of the given spacing over the body's
-    bounding box that lie inside two links that are not parent and child
-    (adjacent links overlap at their joints by design). Error: about the
-    overlap region's surface times ``spacing / 2`` at most, far less on average.
-
-    Args:
-        shape: the links' baked geometry.
-        link_pos: (nl, 3) world link origins [m]; link_rot: (nl, 3, 3).
-        spacing: lattice spacing [m], e.g. the body length / 100.
-    Returns:
-        the volume [m^3]; in 2D the overlapping area times the prism depth.
-    Raises:
-        ValueError: malformed poses or spacing, more than 63 links, or a
-            lattice of more than ``MAX_OVERLAP_SAMPLES`` points.
-    """
-    if not np.isfinite(spacing) or spacing <= 0:
-        raise ValueError(f"spacing must be a positive length in metres, got {spacing!r}")
-    if shape.nlinks > 63:
-        raise ValueError(f"overlap_volume handles up to 63 links, this body has {shape.nlinks}")
-    pos, rot = _pose(shape, link_pos, link_rot)
-    if not shape.dims[:, 0].any():
-        return 0.0  # no geoms at all
-    lo, hi = _bounds(shape, pos, rot)
-    counts = np.maximum(np.ceil((hi - lo) / spacing).astype(np.int64), 1)
-    if shape.dim == 2:
-        lo[2], counts[2] = -spacing / 2, 1  # lattice points at z = 0
-    if counts.prod() > MAX_OVERLAP_SAMPLES:
-        raise ValueError(
-            f"spacing {spacing:.3g} m needs {counts.prod()} lattice points over the body, more "
-            f"than {MAX_OVERLAP_SAMPLES}; use a larger spacing"
-        )
-    inside = np.zeros(tuple(counts), dtype=np.int64)
-    apart = _apart_masks(shape.parent)
-    count = _overlap_count(*_baked(shape), rot, pos, lo, float(spacing), inside, apart)
-    if shape.dim == 2:
-        return float(count * spacing**2 * shape.depth)
-    return float(count * spacing**3)
-
-
 # --- checks and small geometry --------------------------------------------------
 
 
-def _pose(shape: BodyShape, link_pos, link_rot) -> tuple[np.ndarray, np.ndarray]:
+def checked_pose(shape: BodyShape, link_pos, link_rot) -> tuple[np.ndarray, np.ndarray]:
     """Checked link origins (nl, 3) and rest-frame-to-world rotations (nl, 3, 3)."""
     nl = shape.nlinks
     pos = np.ascontiguousarray(link_pos, dtype=float)
@@ -193,7 +148,7 @@ def _pose(shape: BodyShape, link_pos, link_rot) -> tuple[np.ndarray, np.ndarray]
     return pos, world
 
 
-def _baked(shape: BodyShape) -> tuple:
+def baked_arrays(shape: BodyShape) -> tuple:
     """The shape's arrays in the order the kernels take them."""
     return shape.sdf, shape.offset, shape.dims, shape.lower, shape.spacing
 
@@ -207,37 +162,11 @@ def _origin_3d(origin, h: float) -> np.ndarray:
     return np.array(tuple(origin) + (-h / 2,) * (3 - len(origin)))
 
 
-def _bounds(shape: BodyShape, pos: np.ndarray, rot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """World bounding box (lo, hi) of every link's baked grid [m]."""
-    corners = np.array(np.meshgrid([0, 1], [0, 1], [0, 1], indexing="ij")).reshape(3, -1).T
-    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
-    for k in np.flatnonzero(shape.dims[:, 0] > 0):
-        local = shape.lower[k] + corners * (shape.dims[k] - 1) * shape.spacing
-        world = pos[k] + local @ rot[k].T
-        lo, hi = np.minimum(lo, world.min(axis=0)), np.maximum(hi, world.max(axis=0))
-    return lo, hi
-
-
-def _apart_masks(parent: np.ndarray) -> np.ndarray:
-    """Bit masks (nl,) int64: bit j of entry k is set when links k and j are not adjacent."""
-    nl = parent.size
-    everyone = (1 << nl) - 1
-    masks = np.empty(nl, dtype=np.int64)
-    for k in range(nl):
-        near = 1 << k
-        if parent[k] >= 0:
-            near |= 1 << int(parent[k])
-        for child in np.flatnonzero(parent == k):
-            near |= 1 << int(child)
-        masks[k] = everyone & ~near
-    return masks
-
-
 # --- kernels ------------------------------------------------------------------
 
 
 @numba.njit(cache=True)
-def _cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
+def cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
     """Cells (out[a] = first, last) whose centres lie in the world box of a link's grid."""
     lo = np.full(3, np.inf)
     hi = np.full(3, -np.inf)
@@ -260,7 +189,7 @@ def _cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
 
 
 @numba.njit(cache=True)
-def _value_at(sdf, base, dims, lower, spacing, rot, pos, x, y, z):
+def link_distance(sdf, base, dims, lower, spacing, rot, pos, x, y, z):
     """Interpolated signed distance of one link at a world point [m]; +inf off its grid.
 
     Trilinear; bilinear when the grid has one z layer (2D).
@@ -302,14 +231,14 @@ def _paint_owners_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, owner
     for k in range(dims.shape[0]):
         if dims[k, 0] == 0:
             continue
-        _cell_range(dims[k], lower[k], spacing, rot[k], pos[k], origin, h, owner.shape, span)
+        cell_range(dims[k], lower[k], spacing, rot[k], pos[k], origin, h, owner.shape, span)
         for i in range(span[0, 0], span[0, 1] + 1):
             x = origin[0] + (i + 0.5) * h
             for j in range(span[1, 0], span[1, 1] + 1):
                 y = origin[1] + (j + 0.5) * h
                 for l in range(span[2, 0], span[2, 1] + 1):
                     z = origin[2] + (l + 0.5) * h
-                    phi = _value_at(
+                    phi = link_distance(
                         sdf, offset[k], dims[k], lower[k], spacing, rot[k], pos[k], x, y, z
                     )
                     if phi < 0 and phi < best[i, j, l]:
@@ -439,37 +368,4 @@ def _face_sweep_(owner, box, axis, index, sign, cell, link):
                         cell[count, 0], cell[count, 1], cell[count, 2] = fluid
                         link[count] = low if outward else high
                     count += 1
-    return count
-
-
-@numba.njit(cache=True)
-def _overlap_count(sdf, offset, dims, lower, spacing, rot, pos, origin, step, inside, apart):
-    """Lattice points inside two non-adjacent links; ``inside`` gets one bit per link."""
-    span = np.empty((3, 2), dtype=np.int64)
-    for k in range(dims.shape[0]):
-        if dims[k, 0] == 0:
-            continue
-        bit = np.int64(1) << k
-        _cell_range(dims[k], lower[k], spacing, rot[k], pos[k], origin, step, inside.shape, span)
-        for i in range(span[0, 0], span[0, 1] + 1):
-            x = origin[0] + (i + 0.5) * step
-            for j in range(span[1, 0], span[1, 1] + 1):
-                y = origin[1] + (j + 0.5) * step
-                for l in range(span[2, 0], span[2, 1] + 1):
-                    z = origin[2] + (l + 0.5) * step
-                    phi = _value_at(
-                        sdf, offset[k], dims[k], lower[k], spacing, rot[k], pos[k], x, y, z
-                    )
-                    if phi < 0:
-                        inside[i, j, l] |= bit
-    count = 0
-    flat = inside.ravel()
-    for n in range(flat.size):
-        links = flat[n]
-        if links & (links - 1) == 0:  # at most one link here
-            continue
-        for k in range(apart.size):
-            if (links >> k) & 1 and links & apart[k]:
-                count += 1
-                break
     return count
