@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from aquagait.fluid.operators import cell_centered, divergence, kinetic_energy, vorticity
+from aquagait.fluid.operators import cell_centered, curl, divergence, kinetic_energy, vorticity
 from aquagait.grid import Grid
 
 
@@ -33,6 +33,18 @@ def test_vorticity_of_solid_body_rotation_is_twice_the_rate():
     w = vorticity(grid3, u3)
     np.testing.assert_allclose(w[2], 2 * omega, rtol=1e-10)
     np.testing.assert_allclose(w[:2], 0.0, atol=1e-10)
+
+
+def test_curl_of_a_cell_centred_rotation_is_twice_the_rate_in_any_float_dtype():
+    # the pictures record cell-centred float32 planes and take their vorticity here
+    omega, h = 1.5, 0.01
+    x, y = (np.indices((20, 10)) + 0.5) * h - 0.07
+    centred = np.stack([-omega * y, omega * x]).astype(np.float32)
+    w = curl(centred, h)
+    assert w.dtype == np.float64 and w.shape == (20, 10)
+    np.testing.assert_allclose(w, 2 * omega, rtol=1e-6)
+    with pytest.raises(ValueError, match=r"give \(2, nx, ny\) or \(3, nx, ny, nz\)"):
+        curl(centred[..., None], h)
 
 
 def test_kinetic_energy_of_uniform_flow():

@@ -44,22 +44,41 @@ def cell_centered(grid: Grid, velocity: Velocity) -> np.ndarray:
 
 
 def vorticity(grid: Grid, velocity: Velocity) -> np.ndarray:
-    """Curl of the velocity at cell centres.
-
-    Central differences of the cell-centred velocity (one-sided on the
-    border), second order where the field is smooth.
+    """Curl of the velocity at cell centres: ``curl`` of the cell-centred velocity.
 
     Returns:
         2D: the scalar ``dv/dx - du/dy``, shape ``grid.shape`` [1/s]
         (positive is counter-clockwise). 3D: the vector, shape ``(3, *grid.shape)``.
     """
-    centred = cell_centered(grid, velocity)
-    h = grid.cell_size
+    return curl(cell_centered(grid, velocity), grid.cell_size)
+
+
+def curl(centred: np.ndarray, cell_size: float) -> np.ndarray:
+    """Curl of a cell-centred velocity field (the vorticity).
+
+    Central differences (one-sided on the border), second order where the
+    field is smooth. Serves the MAC grid (``vorticity``) and recorded planes
+    of cell-centred velocity (the pictures) alike.
+
+    Args:
+        centred: ``(dim, *shape)`` velocity at cell centres [m/s], dim 2 or 3;
+            any float dtype, computed in float64.
+        cell_size: ``h`` [m].
+    Returns:
+        2D: the scalar ``dv/dx - du/dy``, shape ``shape`` [1/s] (positive is
+        counter-clockwise). 3D: the vector, shape ``(3, *shape)``.
+    """
+    centred = np.asarray(centred, dtype=np.float64)
+    if centred.shape[0] not in (2, 3) or centred.ndim != centred.shape[0] + 1:
+        raise ValueError(
+            f"centred has shape {centred.shape}; give (2, nx, ny) or (3, nx, ny, nz): "
+            f"one cell-centred array per axis"
+        )
 
     def d(component, axis):
-        return np.gradient(centred[component], h, axis=axis)
+        return np.gradient(centred[component], cell_size, axis=axis)
 
-    if grid.dim == 2:
+    if centred.shape[0] == 2:
         return d(1, 0) - d(0, 1)
     return np.stack([d(2, 1) - d(1, 2), d(0, 2) - d(2, 0), d(1, 0) - d(0, 1)])
 

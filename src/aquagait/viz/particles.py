@@ -21,6 +21,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from aquagait.fluid.operators import curl
 from aquagait.sim import FluidFrames
 
 
@@ -51,10 +52,8 @@ def sample(field: np.ndarray, origin, cell_size: float, points: np.ndarray) -> n
 
 
 def vorticity(fluid: FluidFrames, frame: int) -> np.ndarray:
-    """Vorticity dv/dx - du/dy of a frame at cell centres, (nx, ny) [1/s], central differences."""
-    u, v = fluid.velocity[frame].astype(float)
-    h = fluid.cell_size
-    return np.gradient(v, h, axis=0) - np.gradient(u, h, axis=1)
+    """Vorticity dv/dx - du/dy of a frame at cell centres, (nx, ny) [1/s]: ``operators.curl``."""
+    return curl(fluid.velocity[frame], fluid.cell_size)
 
 
 def inside(fluid: FluidFrames, frame: int, points: np.ndarray) -> np.ndarray:
