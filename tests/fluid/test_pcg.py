@@ -1,5 +1,8 @@
 """The pressure solver: agreement with a sparse reference, symmetry, and iteration budgets."""
 
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
@@ -113,3 +116,23 @@ def test_wrong_rhs_shape_is_named():
         ValueError, match=r"right-hand side has shape \(4, 4\), expected \(32, 16\)"
     ):
         pcg(obstacle_system((32, 16)), np.zeros((4, 4)), atol=1e-6)
+
+
+def test_solves_in_two_threads_equal_serial_solves():
+    """Threads may share a system (it is only read) but never a workspace (DESIGN.md §3).
+
+    The interpreter switches threads every microsecond, between the Python
+    loop's calls to the kernels; with one workspace per process (as it was),
+    the solves overwrite each other's vectors and fail or differ.
+    """
+    flat, box = obstacle_system((48, 24)), obstacle_system((24, 12, 12))
+    jobs = [(system, random_rhs(system.shape, seed)) for system in (flat, box) for seed in range(4)]
+    serial = [pcg(system, b, atol=1e-9).x for system, b in jobs]
+    before = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)
+    try:
+        with ThreadPoolExecutor(2) as pool:  # both threads solve the same system at once
+            threaded = list(pool.map(lambda job: pcg(job[0], job[1], atol=1e-9).x, jobs))
+    finally:
+        sys.setswitchinterval(before)
+    assert all(np.array_equal(a, b) for a, b in zip(threaded, serial, strict=True))

@@ -24,13 +24,13 @@ the padded layout of ``cells.py``.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numba
 import numpy as np
 
 from aquagait.fluid.cells import padded_shape
+from aquagait.fluid.scratch import per_thread_cache
 
 SMOOTHING_STEPS_2D = 2
 """Red-black Gauss-Seidel steps before (and after) each coarse-grid correction in 2D."""
@@ -387,13 +387,18 @@ def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d):
 
 
 def preconditioner(system):
-    """``apply(r, z)``: one V-cycle over ``system.hierarchy``, the default for ``pcg``."""
+    """``apply(r, z)``: one V-cycle over ``system.hierarchy``, the default for ``pcg``.
+
+    ``apply`` writes into the calling thread's scratch levels: build it in the
+    thread that solves (``pcg`` does, once per solve). The hierarchy is only
+    read, so threads may share one ``system``.
+    """
     h = system.hierarchy
     work = _work(int(h.offsets[-1]))
     return lambda r, z: vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, work, h.three_d)
 
 
-@functools.lru_cache(maxsize=4)
+@per_thread_cache(maxsize=4)
 def _work(size: int) -> np.ndarray:
-    """Per-level scratch, reused between solves (fresh pages cost more than a cycle)."""
+    """Per-level scratch, kept by one thread between solves (fresh pages cost more than a cycle)."""
     return np.zeros((5, size), dtype=np.float32)

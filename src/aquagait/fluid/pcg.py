@@ -19,7 +19,6 @@ projection this bounds every cell's divergence, not only their average.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numba
@@ -28,6 +27,7 @@ import numpy as np
 from aquagait.fluid import multigrid
 from aquagait.fluid.cells import interior, padded_shape, seal_pockets
 from aquagait.fluid.multigrid import Hierarchy, build_hierarchy, laplacian
+from aquagait.fluid.scratch import per_thread_cache
 
 DEFAULT_MAX_ITERATIONS = 200
 
@@ -66,7 +66,10 @@ class LowRank:
 class PressureSystem:
     """The operator of one pressure solve: which cells are fluid, and extra terms.
 
-    Build it with ``pressure_system``. Attributes:
+    Build it with ``pressure_system``. A solve only reads it (the vectors it
+    writes are the calling thread's), so threads may share one system.
+
+    Attributes:
         shape: the grid's cell shape.
         solid: boolean cell mask after sealing enclosed pockets.
         hierarchy: the multigrid levels (level 0 holds the Laplacian's diagonal).
@@ -208,13 +211,15 @@ def _operator(system: PressureSystem):
     return apply
 
 
-@functools.lru_cache(maxsize=4)
+@per_thread_cache(maxsize=4)
 def _workspace(padded: tuple[int, int, int]):
-    """The six vectors of a solve, kept between calls.
+    """The six vectors of a solve, kept between calls by the calling thread.
 
     Fresh multi-megabyte arrays cost page faults on first touch, more than a
     whole V-cycle on a 64x32x32 grid; reusing them keeps the solve's cost in
-    the arithmetic. Ghost entries stay zero: no kernel writes them.
+    the arithmetic. Each thread has its own (``scratch``): two solves in two
+    threads never write the same vectors. Ghost entries stay zero: no kernel
+    writes them.
     """
     return tuple(np.zeros(padded) for _ in range(6))
 
