@@ -1,6 +1,9 @@
 """The MuJoCo adapter against MuJoCo's own routines and finite differences of the kinematics."""
 
 import pickle
+import sys
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import mujoco
@@ -219,3 +222,36 @@ def test_bad_arguments_say_what_is_expected(snake, snake_dynamics):
         snake_dynamics.mass_matrix(np.zeros(3))
     with pytest.raises(ValueError, match=r"link indices must lie in \[0, 4\)"):
         snake_dynamics.point_velocities(snake.qpos0, np.zeros(snake.nv), np.zeros((1, 3)), [7])
+
+
+def test_threads_sharing_one_dynamics_get_their_serial_numbers(snake, snake_dynamics):
+    """The MuJoCo scratch data and its cache belong to the thread (DESIGN.md §3).
+
+    Two threads ask for M, c and point Jacobians at their own states, the
+    interpreter switching between them every microsecond; with one scratch
+    MjData for the object (as it was) one thread reads the other's kinematics.
+    """
+    states = [random_state(snake, snake_dynamics, seed) for seed in (21, 22)]
+    points, links = np.array([[0.1, 0.0, 0.0], [0.0, 0.05, 0.02]]), np.array([0, 3])
+
+    def ask(q, qd):
+        d = snake_dynamics
+        return [d.mass_matrix(q), d.bias(q, qd), d.point_jacobians(q, points, links)]
+
+    serial = [ask(*state) for state in states]
+    barrier = threading.Barrier(2)
+
+    def many(state):
+        barrier.wait()
+        return [ask(*state) for _ in range(300)]
+
+    before = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)
+    try:
+        with ThreadPoolExecutor(2) as pool:
+            threaded = list(pool.map(many, states))
+    finally:
+        sys.setswitchinterval(before)
+    for answers, expected in zip(threaded, serial, strict=True):
+        for answer in answers:
+            assert all(np.array_equal(a, e) for a, e in zip(answer, expected, strict=True))

@@ -21,6 +21,7 @@ Nothing outside ``aquagait.body`` should touch the ``mujoco`` objects held here.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -189,12 +190,17 @@ def mesh_faces(mj) -> tuple:
 class Dynamics:
     """Mass matrix, bias forces, kinematics and integration of one articulated body.
 
-    Built once per scene from a compiled model; holds one MuJoCo scratch
-    ``MjData`` (not shared between threads; dropped when pickled and rebuilt
-    on first use, so a scene can be shipped to worker processes). Every method
-    takes the configuration explicitly; results for the last ``q`` (and ``qd``)
-    are cached, so asking for ``M``, ``c`` and Jacobians at the same state costs
+    Built once per scene from a compiled model. Every method takes the
+    configuration explicitly; results for the last ``q`` (and ``qd``) are
+    cached, so asking for ``M``, ``c`` and Jacobians at the same state costs
     one kinematics pass.
+
+    Threads: the ``MjModel`` is only read; the MuJoCo scratch ``MjData`` and
+    the cache belong to the calling thread (one of each per thread, kept while
+    the thread lives), so threads may share one ``Dynamics``, and a scene
+    holding it, and each gets exactly its serial numbers (DESIGN.md §3, last
+    paragraph). Pickling keeps only the model; the scratch is rebuilt on
+    first use, so a scene can be shipped to worker processes.
 
     Args:
         mj: a compiled ``mujoco.MjModel`` (from ``compile_mjcf``).
@@ -205,9 +211,7 @@ class Dynamics:
         self.nq, self.nv = mj.nq, mj.nv
         self.nlinks = mj.nbody - 1
         self.link_mass = mj.body_mass[1:].copy()
-        self._data = None
-        self._q = None
-        self._qd = None
+        self._local = threading.local()
 
     def __getstate__(self):
         return {"mj": self.mj}
@@ -216,41 +220,52 @@ class Dynamics:
         self.__init__(state["mj"])
 
     # --- state and caches -------------------------------------------------
-    def _at(self, q, qd=None):
-        """Bring the scratch data to configuration ``q`` (and velocity ``qd``)."""
-        if self._data is None:
-            self._data = mujoco.MjData(self.mj)
-        d = self._data
+    def _at(self, q, qd=None) -> _Scratch:
+        """This thread's scratch, brought to configuration ``q`` (and velocity ``qd``)."""
+        s = getattr(self._local, "scratch", None)
+        if s is None:
+            s = self._local.scratch = _Scratch(mujoco.MjData(self.mj))
+        d = s.data
         q = np.asarray(q, dtype=float)
         if q.shape != (self.nq,):
             raise ValueError(f"q has shape {q.shape}; this body has nq = {self.nq}")
-        if self._q is None or not np.array_equal(q, self._q):
+        if s.q is None or not np.array_equal(q, s.q):
             d.qpos[:] = q
             mujoco.mj_kinematics(self.mj, d)
             mujoco.mj_comPos(self.mj, d)
             mujoco.mj_makeM(self.mj, d)
-            self._q, self._qd, self._jac = q.copy(), None, None
+            s.q, s.qd, s.jac = q.copy(), None, None
         if qd is not None:
             qd = np.asarray(qd, dtype=float)
             if qd.shape != (self.nv,):
                 raise ValueError(f"qd has shape {qd.shape}; this body has nv = {self.nv}")
-            if self._qd is None or not np.array_equal(qd, self._qd):
+            if s.qd is None or not np.array_equal(qd, s.qd):
                 d.qvel[:] = qd
                 mujoco.mj_comVel(self.mj, d)
-                self._qd = qd.copy()
-        return d
+                s.qd = qd.copy()
+        return s
+
+    def _jacobians(self, s: _Scratch) -> tuple[np.ndarray, np.ndarray]:
+        """The cached link Jacobians at the scratch's ``q`` (not copies: read only)."""
+        if s.jac is None:
+            jacp = np.zeros((self.nlinks, 3, self.nv))
+            jacr = np.zeros((self.nlinks, 3, self.nv))
+            for k in range(self.nlinks):
+                mujoco.mj_jacBody(self.mj, s.data, jacp[k], jacr[k], k + 1)
+            s.jac = (jacp, jacr)
+        return s.jac
 
     # --- dynamics ---------------------------------------------------------
     def mass_matrix(self, q) -> np.ndarray:
         """Joint-space inertia ``M(q)``, (nv, nv), symmetric positive definite [kg, kg m^2]."""
-        d = self._at(q)
+        d = self._at(q).data
         out = np.zeros((self.nv, self.nv))
         mujoco.mj_fullM(self.mj, d, out)
         return out
 
     def bias(self, q, qd) -> np.ndarray:
         """Bias forces ``c(q, qd)`` (Coriolis, centrifugal), (nv,) [N, N m]: ``M qdd + c = tau``."""
-        d = self._at(q, qd)
+        d = self._at(q, qd).data
         out = np.zeros(self.nv)
         mujoco.mj_rne(self.mj, d, 0, out)
         return out
@@ -258,7 +273,7 @@ class Dynamics:
     # --- kinematics -------------------------------------------------------
     def link_poses(self, q) -> tuple[np.ndarray, np.ndarray]:
         """World frames of the links: origins (nlinks, 3) [m] and rotations (nlinks, 3, 3)."""
-        d = self._at(q)
+        d = self._at(q).data
         return d.xpos[1:].copy(), d.xmat[1:].reshape(-1, 3, 3).copy()
 
     def link_jacobians(self, q) -> tuple[np.ndarray, np.ndarray]:
@@ -267,14 +282,8 @@ class Dynamics:
         ``jacp[k] @ qd`` is the world velocity of link k's origin [m/s],
         ``jacr[k] @ qd`` its world angular velocity [rad/s].
         """
-        d = self._at(q)
-        if self._jac is None:
-            jacp = np.zeros((self.nlinks, 3, self.nv))
-            jacr = np.zeros((self.nlinks, 3, self.nv))
-            for k in range(self.nlinks):
-                mujoco.mj_jacBody(self.mj, d, jacp[k], jacr[k], k + 1)
-            self._jac = (jacp, jacr)
-        return self._jac[0].copy(), self._jac[1].copy()
+        jacp, jacr = self._jacobians(self._at(q))
+        return jacp.copy(), jacr.copy()
 
     def point_jacobians(self, q, points, links) -> np.ndarray:
         """Jacobians of world points rigidly attached to links, (n, 3, nv).
@@ -289,8 +298,9 @@ class Dynamics:
             ``J_i = Jp_k - [r_i]x Jr_k`` with ``r_i`` from the link origin.
         """
         points, links = self._check_points(points, links)
-        jacp, jacr = self.link_jacobians(q)
-        r = points - self._data.xpos[1:][links]
+        s = self._at(q)
+        jacp, jacr = self._jacobians(s)
+        r = points - s.data.xpos[1:][links]
         return jacp[links] - np.cross(r[:, :, None], jacr[links], axis=1)
 
     def point_velocities(self, q, qd, points, links) -> np.ndarray:
@@ -300,10 +310,11 @@ class Dynamics:
         ``v_i = v_k + w_k x (p_i - x_k)``.
         """
         points, links = self._check_points(points, links)
-        jacp, jacr = self.link_jacobians(q)
+        s = self._at(q)
+        jacp, jacr = self._jacobians(s)
         qd = np.asarray(qd, dtype=float)
         v_link, w_link = jacp @ qd, jacr @ qd
-        r = points - self._data.xpos[1:][links]
+        r = points - s.data.xpos[1:][links]
         return v_link[links] + np.cross(w_link[links], r)
 
     def _check_points(self, points, links):
@@ -317,12 +328,12 @@ class Dynamics:
 
     def center_of_mass(self, q) -> np.ndarray:
         """Centre of mass of the whole body, (3,) [m]."""
-        d = self._at(q)
+        d = self._at(q).data
         return self.link_mass @ d.xipos[1:] / self.link_mass.sum()
 
     def momentum(self, q, qd) -> tuple[np.ndarray, np.ndarray]:
         """Linear momentum (3,) [kg m/s] and angular momentum about the origin (3,) [kg m^2/s]."""
-        d = self._at(q, qd)
+        d = self._at(q, qd).data
         com = d.xipos[1:].copy()
         v = self.point_velocities(q, qd, com, np.arange(self.nlinks))
         _, jacr = self.link_jacobians(q)
@@ -350,3 +361,20 @@ class Dynamics:
             self.mj, out, float(dt), np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
         )
         return out
+
+
+class _Scratch:
+    """One thread's MuJoCo data for a ``Dynamics``, and the state it was last brought to.
+
+    Attributes:
+        data: the ``MjData`` the MuJoCo calls write into.
+        q: (nq,) the configuration ``data`` holds kinematics for, or None.
+        qd: (nv,) the velocity ``data`` holds velocity terms for, or None.
+        jac: the link Jacobians ``(jacp, jacr)`` at ``q``, or None until asked for.
+    """
+
+    __slots__ = ("data", "q", "qd", "jac")
+
+    def __init__(self, data):
+        self.data = data
+        self.q = self.qd = self.jac = None
