@@ -43,6 +43,7 @@ import numpy as np
 
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
+from aquagait.body.rotations import quat_conj, quat_exp, quat_log, quat_mul
 from aquagait.control.gait import SineGait
 
 
@@ -148,34 +149,3 @@ def _check_gains(model: Model, kp, kd):
             "PD gains must be zero on the root DOFs: the root is free, only joints are servoed"
         )
     return kp, kd
-
-
-# --- unit quaternions (w, x, y, z), MuJoCo's convention -------------------------
-
-
-def quat_mul(a, b) -> np.ndarray:
-    """Hamilton product a * b of quaternions (4,)."""
-    aw, av, bw, bv = a[0], np.asarray(a[1:]), b[0], np.asarray(b[1:])
-    return np.r_[aw * bw - av @ bv, aw * bv + bw * av + np.cross(av, bv)]
-
-
-def quat_conj(q) -> np.ndarray:
-    """Conjugate (the inverse of a unit quaternion)."""
-    return np.r_[q[0], -np.asarray(q[1:])]
-
-
-def quat_exp(r) -> np.ndarray:
-    """Unit quaternion of rotation vector r (3,) [rad]."""
-    angle = np.linalg.norm(r)
-    if angle < 1e-12:
-        return np.r_[1.0, 0.5 * np.asarray(r)]
-    return np.r_[np.cos(angle / 2), np.sin(angle / 2) * np.asarray(r) / angle]
-
-
-def quat_log(q) -> np.ndarray:
-    """Rotation vector (3,) [rad] of a unit quaternion, the short way round."""
-    q = np.asarray(q, dtype=float) * (1 if q[0] >= 0 else -1)
-    s = np.linalg.norm(q[1:])
-    if s < 1e-12:
-        return 2 * q[1:]
-    return 2 * np.arctan2(s, q[0]) * q[1:] / s
