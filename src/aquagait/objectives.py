@@ -11,8 +11,14 @@ Over a run of (by default) two gait cycles, minimized:
 - ``E_energy``: actuator work, the integral of ``sum_i |tau_i qd_i| dt`` [J];
   its weight is 0 while the work stays below the creature's energy bound and
   ``w_energy`` (1) above it, so that within the bound only speed counts.
+  The step adds ``|tau_i qd_i| dt`` to the trajectory's cumulative ``energy``
+  at every simulation step, with the velocity that moves the positions, so
+  the work is the cumulative energy's change from the first frame to the
+  last: exact for the integrator, with no quadrature over frames.
 - ``E_collision``: the volume where non-adjacent links overlap, integrated
-  over time [m^3 s], from a lattice of about 100 points along the body.
+  over time [m^3 s], from a lattice of about 100 points along the body. The
+  volume is a snapshot per sampled frame, so it is integrated by the
+  trapezoid rule over the sampled frames' times (the last frame included).
 
 Each term is a function of a ``Trajectory``; weights and direction are
 ``Weights`` and an argument. The units mix, as in the paper: the weights
@@ -34,7 +40,7 @@ COLLISION_POINTS = 100
 """Lattice points along the body's length for ``E_collision`` (about 100^3 over the creature)."""
 
 COLLISION_FRAME_STRIDE = 2
-"""Overlap is measured every this many frames (15 a second) and integrated."""
+"""Overlap is measured every this many frames (15 a second) and at the last one, and integrated."""
 
 
 @dataclass(frozen=True)
@@ -83,7 +89,11 @@ def deviation(model: Model, traj: Trajectory, direction) -> float:
 
 
 def work(traj: Trajectory) -> float:
-    """Actuator work over the run, ``sum_i |tau_i qd_i| dt`` [J]."""
+    """Actuator work over the run, ``sum_i |tau_i qd_i| dt`` [J].
+
+    The difference of the cumulative energy between the last and first
+    frames: the step sums the work per simulation step (module docstring).
+    """
     return float(traj.energy[-1].sum() - traj.energy[0].sum())
 
 
@@ -94,12 +104,26 @@ def energy(traj: Trajectory, bound: float, weight: float = 1.0) -> float:
 
 
 def collision(scene: Scene, traj: Trajectory, stride: int = COLLISION_FRAME_STRIDE) -> float:
-    """``E_collision``: overlap of non-adjacent links integrated over time [m^3 s]."""
+    """``E_collision``: overlap of non-adjacent links integrated over time [m^3 s].
+
+    The overlap volume [m^3] is measured every ``stride`` frames and at the
+    last frame, and integrated by the trapezoid rule over those frames' times
+    [s]: a constant overlap V over a run of T seconds gives V T.
+    """
     shape = scene.shape if scene.shape is not None else _shape(scene)
     spacing = scene.model.body_length / COLLISION_POINTS
-    frames = traj.qpos[::stride]
-    volumes = [overlap_volume(shape, *scene.dynamics.link_poses(q), spacing) for q in frames]
-    return float(np.sum(volumes) * stride / traj.fps)
+    frames = sampled_frames(len(traj.time), stride)
+    volumes = [
+        overlap_volume(shape, *scene.dynamics.link_poses(traj.qpos[f]), spacing) for f in frames
+    ]
+    return float(np.trapezoid(volumes, traj.time[frames]))
+
+
+def sampled_frames(count: int, stride: int) -> np.ndarray:
+    """Indices of every ``stride``-th of ``count`` frames, the last frame always included."""
+    if stride < 1:
+        raise ValueError(f"stride must be a whole number of frames >= 1, got {stride!r}")
+    return np.unique(np.r_[np.arange(0, count, stride), count - 1])
 
 
 def total(
