@@ -6,12 +6,9 @@ import pytest
 import aquagait as ag
 from aquagait.metrics import (
     UNITS,
-    geom_points,
     lateral_excursion,
     stroke_metrics,
     swim_metrics,
-    tail_tip,
-    tail_tip_path,
     travel_metrics,
 )
 from aquagait.sim import Trajectory
@@ -87,32 +84,6 @@ def test_a_body_at_rest_has_undefined_ratios(eel):
     assert m["distance"] == 0 and m["speed"] == 0
     assert np.isnan(m["cost_of_transport"])  # no energy over no distance
     assert m["strouhal"] == np.inf  # a beating tail that goes nowhere
-
-
-def test_tail_tip_is_the_rearmost_point_of_the_body(eel):
-    tip = tail_tip(eel.model)
-    assert eel.model.links[tip.link] == "tail"
-    np.testing.assert_allclose(tip.offset, [-0.1, 0, 0], atol=1e-9)  # mid-point of the end
-    fish = ag.creatures.get("fish")
-    tip = tail_tip(fish.model)
-    assert fish.model.links[tip.link] == "caudal"
-    np.testing.assert_allclose(tip.offset, [-0.02, 0, 0], atol=1e-9)  # middle of the fin's edge
-    links, points = geom_points(fish.model, world=True)
-    assert points[:, 0].min() == pytest.approx(
-        tail_tip_path(fish.model, synthetic(fish.model, lambda t: fish.model.qpos0))[0, 0]
-    )
-
-
-def test_tail_tip_of_round_geoms():
-    capsule = """<mujoco><worldbody><body name="a"><freejoint/>
-        <geom type="capsule" fromto="0 0 0 -.2 0 0" size=".02" density="1000"/>
-        <body name="b" pos="-.2 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-30 30"/>
-        <geom type="cylinder" fromto="0 0 0 -.1 0 0" size=".01" density="1000"/></body>
-        </body></worldbody></mujoco>"""
-    model = ag.load_model(capsule)
-    tip = tail_tip(model)
-    assert model.links[tip.link] == "b"
-    np.testing.assert_allclose(tip.offset, [-0.1, 0, 0], atol=1e-9)
 
 
 def test_lateral_excursion_ignores_motion_along_the_direction():

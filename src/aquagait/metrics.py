@@ -20,15 +20,8 @@ body lengths per cycle). Two groups:
   mean speed over the same last cycle: a swim that starts from rest is slower
   over its first cycle than in steady swimming, which St is about.
 
-The *tail tip* is a point fixed to one link, found once from the model's
-geometry at the reference pose (``tail_tip``): the long axis is the
-coordinate axis of the body's largest bounding-box side, pointing from the
-centre of mass towards the root link's origin (the head); the tip is the
-centroid of the geometry's points that lie farthest back along that axis
-(for a fin with a straight trailing edge: the middle of that edge), attached
-to the link that owns them. Box corners, mesh vertices and points sampled on
-spheres, capsules, cylinders and ellipsoids make up the geometry
-(``geom_points``).
+The tail tip is ``aquagait.body.geometry.tail_tip``: the rearmost point of the
+body along its long axis at the reference pose, fixed to its link.
 
 Undefined values (St of a body that does not move, cost of transport over no
 distance) are ``nan`` or ``inf``; they are never silently zero. A body moved
@@ -37,11 +30,10 @@ by less than ``STILL`` body lengths has not moved.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from aquagait.body.dynamics import Dynamics, describe
+from aquagait.body.dynamics import Dynamics
+from aquagait.body.geometry import tail_tip_path
 from aquagait.body.model import Model
 from aquagait.sim import Trajectory
 
@@ -63,14 +55,6 @@ UNITS = {
 
 STILL = 1e-9
 """Displacements below this many body lengths are rounding noise: the body did not move."""
-
-
-@dataclass(frozen=True)
-class TailTip:
-    """A point fixed to a link: ``link`` index and ``offset`` (3,) in the link's frame [m]."""
-
-    link: int
-    offset: np.ndarray
 
 
 def swim_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
@@ -133,7 +117,7 @@ def stroke_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) ->
     last = trajectory.time >= trajectory.time[-1] - period * (1 + 1e-9)
     cycle = _frames(trajectory, last)
     com = centre_of_mass_path(model, cycle)
-    tip = tail_tip_path(model, cycle)
+    tip = tail_tip_path(model, cycle.qpos)
     displacement = com[-1] - com[0]
     cycle_speed = _rounded(np.linalg.norm(displacement), model) / float(np.ptp(cycle.time))
     amplitude = lateral_excursion(tip, displacement)
@@ -169,89 +153,6 @@ def centre_of_mass_path(model: Model, trajectory: Trajectory) -> np.ndarray:
     """Centre of mass per frame, (F, dim) [m] (the swim plane in 2D)."""
     dynamics = Dynamics(model.mj)
     return np.array([dynamics.center_of_mass(q)[: model.dim] for q in trajectory.qpos])
-
-
-def tail_tip_path(model: Model, trajectory: Trajectory, tip: TailTip | None = None) -> np.ndarray:
-    """World position of the tail tip per frame, (F, dim) [m]."""
-    tip = tail_tip(model) if tip is None else tip
-    dynamics = Dynamics(model.mj)
-    path = []
-    for q in trajectory.qpos:
-        pos, rot = dynamics.link_poses(q)
-        path.append((pos[tip.link] + rot[tip.link] @ tip.offset)[: model.dim])
-    return np.array(path)
-
-
-def tail_tip(model: Model) -> TailTip:
-    """The tail tip of ``model`` (module docstring): the rearmost point along the long axis."""
-    facts = describe(model.mj)
-    links, points = geom_points(model, world=True)
-    axis = int(np.argmax(model.extent))
-    root = facts.link_pos[model.joints[0].link]
-    centre = Dynamics(model.mj).center_of_mass(model.qpos0)
-    forward = 1.0 if root[axis] >= centre[axis] else -1.0
-    back = -forward * points[:, axis]
-    rearmost = back >= back.max() - 1e-9 * max(model.body_length, 1e-12)
-    link = int(links[rearmost][0])
-    tip = points[rearmost & (links == link)].mean(axis=0)
-    offset = facts.link_rot[link].T @ (tip - facts.link_pos[link])
-    return TailTip(link=link, offset=offset)
-
-
-def geom_points(model: Model, world: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """Points on every geom of ``model`` at the reference pose, and the link of each.
-
-    Args:
-        model: the creature.
-        world: world coordinates at ``qpos0`` if True, else each link's frame.
-
-    Returns:
-        ``links`` (n,) link index of each point, ``points`` (n, 3) [m]; see ``geom_point_sets``.
-    """
-    sets = geom_point_sets(model, world)
-    links = np.concatenate([np.full(len(points), link) for link, points in sets])
-    return links, np.concatenate([points for _, points in sets])
-
-
-def geom_point_sets(model: Model, world: bool = False) -> list[tuple[int, np.ndarray]]:
-    """Per geom: its link index and points on it (n_g, 3) [m] at the reference pose.
-
-    Mesh vertices and box corners exactly; spheres, ellipsoids, capsules and
-    cylinders sampled (24 azimuths); enough for outlines and extreme points.
-    In each link's frame, or in the world at ``qpos0`` if ``world``.
-    """
-    facts = describe(model.mj)
-    sets = []
-    for g, kind in enumerate(facts.geom_kind):
-        if kind == "mesh":
-            points = facts.geom_vertices[g]
-        else:
-            local = _primitive_points(kind, facts.geom_size[g])
-            points = facts.geom_pos[g] + local @ facts.geom_rot[g].T
-        link = int(facts.geom_link[g])
-        if not world:
-            points = (points - facts.link_pos[link]) @ facts.link_rot[link]
-        sets.append((link, np.asarray(points, dtype=float)))
-    return sets
-
-
-def _primitive_points(kind: str, size) -> np.ndarray:
-    azimuth = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-    polar = np.linspace(0, np.pi, 9)
-    a, p = np.meshgrid(azimuth, polar)
-    sphere = np.stack([np.sin(p) * np.cos(a), np.sin(p) * np.sin(a), np.cos(p)], -1).reshape(-1, 3)
-    if kind == "box":
-        return np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * size
-    if kind == "sphere":
-        return sphere * size[0]
-    if kind == "ellipsoid":
-        return sphere * size
-    if kind == "capsule":
-        return sphere * size[0] + np.sign(sphere[:, 2:]) * [0, 0, size[1]]
-    if kind == "cylinder":
-        ring = np.stack([np.cos(azimuth), np.sin(azimuth), np.zeros_like(azimuth)], -1) * size[0]
-        return np.concatenate([ring + [0, 0, size[1]], ring - [0, 0, size[1]]])
-    raise ValueError(f"geom kind {kind!r} has no point sampling; use a mesh, box or round geom")
 
 
 def _frames(trajectory: Trajectory, keep) -> Trajectory:

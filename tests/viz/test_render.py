@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import aquagait as ag
-from aquagait.metrics import geom_points
+from aquagait.body.geometry import geom_points
 from aquagait.sim import FluidFrames, Trajectory
 from aquagait.viz import render_swim, swim_frames
 

@@ -29,8 +29,8 @@ from pathlib import Path
 import numpy as np
 
 from aquagait.body.dynamics import Dynamics
+from aquagait.body.geometry import geom_point_sets
 from aquagait.body.model import Model
-from aquagait.metrics import geom_point_sets
 from aquagait.sim import Trajectory
 from aquagait.viz.particles import particle_traces, sample, vorticity
 
