@@ -32,8 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from aquagait.body.model import Model
+from aquagait.body.overlap import overlap_volume
 from aquagait.body.rotations import quat_conj, quat_log, quat_mul
-from aquagait.body.voxelize import BodyShape, overlap_volume
+from aquagait.body.voxelize import BodyShape
 from aquagait.sim import Scene, Trajectory
 
 COLLISION_POINTS = 100
