@@ -20,7 +20,7 @@ def test_swim_writes_a_run_directory_and_a_summary(tmp_path, capsys):
     assert status == 0, captured.err
     assert {p.name for p in out.iterdir()} == FILES
     assert "eel2d swam" in captured.out and "body lengths per cycle" in captured.out
-    assert "shorter than one gait cycle" in captured.out and str(out) in captured.out
+    assert "less than two gait cycles" in captured.out and str(out) in captured.out
     assert "swimming [" in captured.err and "6/6 frames" in captured.err
     run = read_run(out)
     assert run.config["seconds"] == 0.2 and run.config["fluid"] == "none"

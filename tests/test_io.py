@@ -161,11 +161,11 @@ def test_swim_settings_are_checked_before_simulating(tmp_path, eel):
 
 def test_a_swim_is_kept_in_its_run_directory(tmp_path, eel):
     gait = write_gait(tmp_path / "mine.json", eel, eel.default_gait * 0.5)
-    setup = prepare_swim("eel2d", gait=gait, seconds=1.0, fluid="none", resolution=(64, 32))
+    setup = prepare_swim("eel2d", gait=gait, seconds=2.0, fluid="none", resolution=(64, 32))
     calls = []
     run = run_swim(setup, progress=lambda done, total: calls.append((done, total)))
-    assert calls[0] == (1, 30) and calls[-1] == (30, 30)
-    assert run.notes == () and run.metrics["tail_amplitude"] > 0
+    assert calls[0] == (1, 60) and calls[-1] == (60, 60)
+    assert run.notes == () and run.metrics["tail_amplitude"] > 0  # two cycles: steady figures
     out = write_swim(run, tmp_path / "runs" / "eel2d")
     names = {"config.json", "gait.json", "trajectory.npz", "metrics.json"}
     assert {p.name for p in out.iterdir()} == names
@@ -173,12 +173,13 @@ def test_a_swim_is_kept_in_its_run_directory(tmp_path, eel):
     assert_same(run.trajectory, back.trajectory)
     config = back.config
     assert config["resolution"] == [64, 32] and config["cell_size"] == eel.cell_size
-    assert config["fluid"] == "none" and config["fps"] == 30 and config["frames"] == 31
+    assert config["fluid"] == "none" and config["fps"] == 30 and config["frames"] == 61
     assert config["gait"]["source"] == str(gait) and config["dt"] == pytest.approx(1 / 300)
     np.testing.assert_allclose(read_gait(out / "gait.json", eel).params, eel.default_gait * 0.5)
 
 
-def test_a_swim_shorter_than_a_cycle_says_what_it_cannot_measure(eel):
+def test_a_swim_shorter_than_two_cycles_says_what_it_cannot_measure(eel):
     run = run_swim(prepare_swim("eel2d", seconds=0.2, fluid="none"))
-    assert "strouhal" not in run.metrics and "distance" in run.metrics
-    assert "shorter than one gait cycle (1 s)" in run.notes[0]
+    assert "strouhal" not in run.metrics and "steady_speed" not in run.metrics
+    assert "distance" in run.metrics and "speed_from_rest" in run.metrics
+    assert "less than two gait cycles of 1 s: no steady figures" in run.notes[0]

@@ -170,8 +170,11 @@ def _cmd_compare(args) -> int:
     for fluid, run in runs.items():
         write_swim(run, out / fluid)
         summary["swims"][fluid] = {"distance": forward_distance(run), **run.metrics}
+        m = run.metrics
+        steady = f", {m['steady_body_lengths_per_cycle']:.3f} steady" if "steady_speed" in m else ""
         print(f"{fluid:>7} fluid: {forward_distance(run):+.4f} m along x, "
-              f"{run.metrics['body_lengths_per_cycle']:.3f} body lengths per cycle")  # fmt: skip
+              f"{m['body_lengths_per_cycle_from_rest']:.3f} body lengths per cycle from rest"
+              f"{steady}")  # fmt: skip
     if not args.no_video:
         from aquagait.viz import plot_displacement, render_side_by_side
 

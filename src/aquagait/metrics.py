@@ -1,27 +1,38 @@
 """How well a creature swims: distance, speed, energy, cost of transport, Strouhal number.
 
 Measured on a ``Trajectory`` (DESIGN.md §1 step 3; paper §6 reports speed in
-body lengths per cycle). Two groups:
+body lengths per cycle). A swim starts from rest, so there are two kinds of
+figure, named apart:
 
-- *travel* (any trajectory of two frames or more): the net displacement of the
-  centre of mass between the first and last frames, ``distance`` [m], the
-  mean ``speed`` U = distance / duration [m/s], ``body_lengths_per_cycle`` =
-  U T / L, the actuator ``energy`` spent, ``E = sum_i E_i(end) - E_i(start)``
-  with ``E_i`` the trajectory's cumulative ``|tau_i qd_i|`` work [J], and the
-  ``cost_of_transport`` E / (m d) [J/(kg m)] (2D: m is the mass of the prism).
-  The centre of mass, not the root, because the root (usually the head)
-  sways; in vacuum the centre of mass stays put, whatever the gait does.
-- *stroke* (needs one full gait cycle): over the last cycle, the tail tip's
-  peak-to-peak lateral excursion ``tail_amplitude`` A [m] and the Strouhal
-  number St = f A / U with f = 1 / T. Lateral means perpendicular to the
-  swimming direction of that cycle (the centre of mass's displacement over
-  it), along the principal axis of the tip's motion in that perpendicular
-  plane (in 2D simply the in-plane normal). U here is ``cycle_speed``, the
-  mean speed over the same last cycle: a swim that starts from rest is slower
-  over its first cycle than in steady swimming, which St is about.
+- *from rest*, over the whole swim (any trajectory of two frames or more):
+  the net displacement of the centre of mass between the first and last
+  frames, ``distance`` [m]; the mean ``speed_from_rest`` U0 = distance /
+  duration [m/s]; ``body_lengths_per_cycle_from_rest`` = U0 T / L; the
+  actuator ``energy`` spent, ``E = sum_i E_i(end) - E_i(start)`` with ``E_i``
+  the trajectory's cumulative ``|tau_i qd_i|`` work [J] (the step sums it at
+  every simulation step, so the difference is exact: no quadrature over
+  frames); and the ``cost_of_transport`` E / (m d) [J/(kg m)] (2D: m is the
+  mass of the prism).
+- *steady*, over the steady window (needs two whole gait cycles): the last
+  whole cycles after the first. A swim of n >= 2 whole cycles of period T
+  ending at ``t_end`` is measured over the frames from ``t_end - (n - 1) T``
+  to ``t_end``: ``steady_start`` and ``steady_end`` [s] (the window's first
+  and last frame times), ``steady_cycles`` = n - 1, the mean
+  ``steady_speed`` U over the window [m/s],
+  ``steady_body_lengths_per_cycle`` = U T / L, the tail tip's peak-to-peak
+  lateral excursion ``tail_amplitude`` A [m] and the Strouhal number
+  St = f A / U with f = 1 / T. The first cycle is left out because the body
+  accelerates from rest through it; whole cycles because the speed surges
+  within a stroke and averages out only over whole ones; the window ends at
+  the last frame because the latest cycles are the steadiest.
 
-The tail tip is ``aquagait.body.geometry.tail_tip``: the rearmost point of the
-body along its long axis at the reference pose, fixed to its link.
+The centre of mass, not the root, because the root (usually the head) sways;
+in vacuum the centre of mass stays put, whatever the gait does. Lateral means
+perpendicular to the swimming direction over the window (the centre of
+mass's displacement over it), along the principal axis of the tip's motion
+in that perpendicular plane (in 2D simply the in-plane normal). The tail tip
+is ``aquagait.body.geometry.tail_tip``: the rearmost point of the body along
+its long axis at the reference pose, fixed to its link.
 
 Undefined values (St of a body that does not move, cost of transport over no
 distance) are ``nan`` or ``inf``; they are never silently zero. A body moved
@@ -41,13 +52,17 @@ UNITS = {
     "duration": "s",
     "period": "s",
     "distance": "m",
-    "speed": "m/s",
-    "body_lengths_per_cycle": "1",
+    "speed_from_rest": "m/s",
+    "body_lengths_per_cycle_from_rest": "1",
     "energy": "J",
     "cost_of_transport": "J/(kg m)",
     "mass": "kg",
     "body_length": "m",
-    "cycle_speed": "m/s",
+    "steady_start": "s",
+    "steady_end": "s",
+    "steady_cycles": "1",
+    "steady_speed": "m/s",
+    "steady_body_lengths_per_cycle": "1",
     "tail_amplitude": "m",
     "strouhal": "1",
 }
@@ -56,34 +71,45 @@ UNITS = {
 STILL = 1e-9
 """Displacements below this many body lengths are rounding noise: the body did not move."""
 
+STARTING_CYCLES = 1
+"""Whole gait cycles at the start that the steady window leaves out (acceleration from rest)."""
+
+
+class NoSteadyWindow(ValueError):
+    """The trajectory is too short for steady figures; the message says how long it must be."""
+
 
 def swim_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
-    """All swim metrics: travel (see ``travel_metrics``) and stroke (``stroke_metrics``).
+    """All swim metrics: from rest (``travel_metrics``) and steady (``steady_metrics``).
 
     Args:
         model: the creature that swam.
-        trajectory: its trajectory; at least one full cycle long.
+        trajectory: its trajectory; at least two whole gait cycles long.
         period: gait period T [s].
 
     Returns:
         A dict of floats keyed as in ``UNITS``.
 
     Raises:
-        ValueError: the trajectory is shorter than one cycle, or does not fit the model.
+        NoSteadyWindow: the trajectory is shorter than two whole cycles.
+        ValueError: the trajectory does not fit the model.
     """
     return {
         **travel_metrics(model, trajectory, period),
-        **stroke_metrics(model, trajectory, period),
+        **steady_metrics(model, trajectory, period),
     }
 
 
 def travel_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
-    """Distance, speed, body lengths per cycle, energy and cost of transport (module docstring).
+    """The from-rest figures over the whole swim (module docstring); needs two frames or more.
 
-    Needs two frames or more, not a full cycle.
+    Returns:
+        ``duration`` [s], ``period`` [s], ``distance`` [m], ``speed_from_rest``
+        [m/s], ``body_lengths_per_cycle_from_rest`` [1], ``energy`` [J],
+        ``cost_of_transport`` [J/(kg m)], ``mass`` [kg], ``body_length`` [m].
     """
     _check(model, trajectory, period)
-    com = centre_of_mass_path(model, trajectory)
+    com = _centre_of_mass(model, trajectory.qpos[[0, -1]])
     duration = float(trajectory.time[-1] - trajectory.time[0])
     distance = _rounded(np.linalg.norm(com[-1] - com[0]), model)
     speed = distance / duration
@@ -92,8 +118,8 @@ def travel_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) ->
         "duration": duration,
         "period": float(period),
         "distance": distance,
-        "speed": speed,
-        "body_lengths_per_cycle": speed * period / model.body_length,
+        "speed_from_rest": speed,
+        "body_lengths_per_cycle_from_rest": speed * period / model.body_length,
         "energy": energy,
         "cost_of_transport": _ratio(energy, model.mass * distance),
         "mass": float(model.mass),
@@ -101,31 +127,60 @@ def travel_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) ->
     }
 
 
-def stroke_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
-    """Speed, tail-tip amplitude and Strouhal number over the last full cycle.
+def steady_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
+    """The steady figures over the steady window (module docstring).
+
+    Returns:
+        ``steady_start``, ``steady_end`` [s], ``steady_cycles`` [1],
+        ``steady_speed`` [m/s], ``steady_body_lengths_per_cycle`` [1],
+        ``tail_amplitude`` [m], ``strouhal`` [1].
 
     Raises:
-        ValueError: the trajectory is shorter than one cycle.
+        NoSteadyWindow: the trajectory is shorter than two whole cycles.
     """
     _check(model, trajectory, period)
-    duration = trajectory.time[-1] - trajectory.time[0]
-    if duration < period * (1 - 1e-9):
-        raise ValueError(
-            f"the trajectory lasts {duration:.4g} s, less than one gait cycle of {period:.4g} s; "
-            "the Strouhal number needs a full cycle (simulate longer)"
-        )
-    last = trajectory.time >= trajectory.time[-1] - period * (1 + 1e-9)
-    cycle = _frames(trajectory, last)
-    com = centre_of_mass_path(model, cycle)
-    tip = tail_tip_path(model, cycle.qpos)
+    window = steady_window(trajectory, period)
+    time = trajectory.time[window]
+    qpos = trajectory.qpos[window]
+    com = _centre_of_mass(model, qpos)
     displacement = com[-1] - com[0]
-    cycle_speed = _rounded(np.linalg.norm(displacement), model) / float(np.ptp(cycle.time))
-    amplitude = lateral_excursion(tip, displacement)
+    start, end = float(time[0]), float(time[-1])
+    speed = _rounded(np.linalg.norm(displacement), model) / (end - start)
+    amplitude = lateral_excursion(tail_tip_path(model, qpos), displacement)
     return {
-        "cycle_speed": cycle_speed,
+        "steady_start": start,
+        "steady_end": end,
+        "steady_cycles": float(_whole_cycles(trajectory.time, period) - STARTING_CYCLES),
+        "steady_speed": speed,
+        "steady_body_lengths_per_cycle": speed * period / model.body_length,
         "tail_amplitude": amplitude,
-        "strouhal": _ratio(amplitude / period, cycle_speed),
+        "strouhal": _ratio(amplitude / period, speed),
     }
+
+
+def steady_window(trajectory: Trajectory, period: float = 1.0) -> np.ndarray:
+    """The frames of the steady window (module docstring), a (F,) bool mask.
+
+    Raises:
+        NoSteadyWindow: fewer than two whole cycles, or fewer than two frames in the window.
+    """
+    time = np.asarray(trajectory.time, dtype=float)
+    duration = time[-1] - time[0]
+    cycles = _whole_cycles(time, period) - STARTING_CYCLES
+    if cycles < 1:
+        least = (STARTING_CYCLES + 1) * period
+        raise NoSteadyWindow(
+            f"the swim lasts {duration:.4g} s, less than two gait cycles of {period:.4g} s: "
+            "no steady figures (steady speed, tail amplitude, Strouhal number), which leave "
+            f"out the first cycle from rest; simulate at least {least:.4g} s"
+        )
+    window = time >= time[-1] - cycles * period - 1e-9 * period
+    if np.count_nonzero(window) < 2:
+        raise NoSteadyWindow(
+            f"the steady window of {cycles} cycle(s) of {period:.4g} s holds one frame; "
+            "record more frames per cycle"
+        )
+    return window
 
 
 def lateral_excursion(points, direction) -> float:
@@ -151,20 +206,17 @@ def lateral_excursion(points, direction) -> float:
 
 def centre_of_mass_path(model: Model, trajectory: Trajectory) -> np.ndarray:
     """Centre of mass per frame, (F, dim) [m] (the swim plane in 2D)."""
+    return _centre_of_mass(model, trajectory.qpos)
+
+
+def _centre_of_mass(model: Model, qpos) -> np.ndarray:
     dynamics = Dynamics(model.mj)
-    return np.array([dynamics.center_of_mass(q)[: model.dim] for q in trajectory.qpos])
+    return np.array([dynamics.center_of_mass(q)[: model.dim] for q in qpos])
 
 
-def _frames(trajectory: Trajectory, keep) -> Trajectory:
-    return Trajectory(
-        time=trajectory.time[keep],
-        qpos=trajectory.qpos[keep],
-        qvel=trajectory.qvel[keep],
-        torque=trajectory.torque[keep],
-        energy=trajectory.energy[keep],
-        dt=trajectory.dt,
-        fps=trajectory.fps,
-    )
+def _whole_cycles(time, period: float) -> int:
+    """Whole gait cycles in the frames' time span (rounding noise forgiven)."""
+    return int(np.floor((time[-1] - time[0]) / period + 1e-9))
 
 
 def _rounded(distance: float, model: Model) -> float:

@@ -52,7 +52,7 @@ def cross_optimize(
 
     Returns:
         ``{"gaits": {trained_in: params}, "distance": {trained_in: {swum_in: metres}},
-        "body_lengths_per_cycle": {...}}``.
+        "body_lengths_per_cycle_from_rest": {...}}``.
     """
     gaits = {}
     for fluid in FLUIDS:
@@ -64,11 +64,13 @@ def cross_optimize(
     for trained, params in gaits.items():
         runs = swim_both(name, gait=params, seconds=seconds, **grid)
         distance[trained] = {f: forward_distance(r) for f, r in runs.items()}
-        per_cycle[trained] = {f: r.metrics["body_lengths_per_cycle"] for f, r in runs.items()}
+        per_cycle[trained] = {
+            f: r.metrics["body_lengths_per_cycle_from_rest"] for f, r in runs.items()
+        }
     return {
         "gaits": {f: np.asarray(p).tolist() for f, p in gaits.items()},
         "distance": distance,
-        "body_lengths_per_cycle": per_cycle,
+        "body_lengths_per_cycle_from_rest": per_cycle,
     }
 
 

@@ -22,7 +22,7 @@ from aquagait import creatures
 from aquagait.creatures import Creature
 from aquagait.io.gait import GaitFileError, read_gait, write_gait
 from aquagait.io.run import library_versions, write_run
-from aquagait.metrics import stroke_metrics, travel_metrics
+from aquagait.metrics import NoSteadyWindow, steady_metrics, travel_metrics
 from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
 
 
@@ -62,8 +62,8 @@ class SwimSetup:
 class SwimRun:
     """A finished swim: its ``setup``, ``trajectory``, ``metrics`` and resolved ``config``.
 
-    ``notes`` says what could not be measured (e.g. a swim shorter than a cycle
-    has no Strouhal number).
+    ``notes`` says what could not be measured (e.g. a swim shorter than two
+    cycles has no steady speed or Strouhal number).
     """
 
     setup: SwimSetup
@@ -144,13 +144,10 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
     )
     metrics = travel_metrics(creature.model, trajectory, setup.period)
     notes = ()
-    if trajectory.time[-1] - trajectory.time[0] >= setup.period * (1 - 1e-9):
-        metrics.update(stroke_metrics(creature.model, trajectory, setup.period))
-    else:
-        notes = (
-            f"the swim is shorter than one gait cycle ({setup.period:g} s): "
-            "no tail amplitude or Strouhal number",
-        )
+    try:
+        metrics.update(steady_metrics(creature.model, trajectory, setup.period))
+    except NoSteadyWindow as err:
+        notes = (str(err),)
     return SwimRun(setup, trajectory, metrics, swim_config(setup, trajectory), notes)
 
 
@@ -197,12 +194,18 @@ def swim_summary(run: SwimRun, out=None) -> str:
     m, setup = run.metrics, run.setup
     lines = [
         f"{setup.creature.name} swam {m['distance']:.3f} m in {m['duration']:.2f} s "
-        f"({setup.scene.fluid} fluid): {m['speed']:.3f} m/s, "
-        f"{m['body_lengths_per_cycle']:.2f} body lengths per cycle",
-        f"energy {m['energy']:.3g} J, cost of transport {m['cost_of_transport']:.3g} J/(kg m)"
-        + (f", Strouhal number {m['strouhal']:.3g}" if "strouhal" in m else ""),
+        f"({setup.scene.fluid} fluid), from rest: {m['speed_from_rest']:.3f} m/s, "
+        f"{m['body_lengths_per_cycle_from_rest']:.2f} body lengths per cycle",
+        f"energy {m['energy']:.3g} J, cost of transport {m['cost_of_transport']:.3g} J/(kg m)",
         *run.notes,
     ]
+    if "steady_speed" in m:
+        lines.insert(
+            1,
+            f"steady over {m['steady_start']:g}-{m['steady_end']:g} s: {m['steady_speed']:.3f} "
+            f"m/s, {m['steady_body_lengths_per_cycle']:.2f} body lengths per cycle, "
+            f"Strouhal number {m['strouhal']:.3g}",
+        )
     if out is not None:
         files = sorted(p.name for p in Path(out).iterdir() if p.is_file())
         lines.append(f"wrote {out}{'/' if not str(out).endswith('/') else ''}: {', '.join(files)}")
