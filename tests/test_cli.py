@@ -59,7 +59,7 @@ def test_swim_in_the_fluid_with_a_gait_file_and_a_video(tmp_path, capsys):
             str(tmp_path / "half.json"),
             "--resolution",
             "32",
-            "16",
+            "20",
             "--cell-size",
             "0.04",
             "--out",
@@ -68,8 +68,8 @@ def test_swim_in_the_fluid_with_a_gait_file_and_a_video(tmp_path, capsys):
     )
     assert status == 0, capsys.readouterr().err
     run = read_run(out)
-    assert run.config["fluid"] == "euler" and run.trajectory.fluid.velocity.shape[2:] == (32, 16)
-    assert run.config["gait"]["params"] == gait["params"] and run.config["resolution"] == [32, 16]
+    assert run.config["fluid"] == "euler" and run.trajectory.fluid.velocity.shape[2:] == (32, 20)
+    assert run.config["gait"]["params"] == gait["params"] and run.config["resolution"] == [32, 20]
     assert run.config["cell_size"] == 0.04
     with imageio.get_reader(out / "swim.mp4") as video:
         assert video.count_frames() == 4

@@ -90,7 +90,7 @@ def test_a_body_at_rest_feels_nothing():
         assert not force_at(model, np.zeros(model.nv)).any()
     creature = ag.creatures.get("fish")
     scene = ag.make_scene(creature, fluid="simple")
-    assert not drag_force(scene.surface, scene.dynamics, creature.model.qpos0,
+    assert not drag_force(scene.fluid.surface, scene.dynamics, creature.model.qpos0,
                           np.zeros(creature.model.nv), RHO).any()  # fmt: skip
 
 
@@ -110,7 +110,7 @@ def test_spinning_plate_feels_the_integrated_torque():
 
 def coast(model, qvel, seconds, dt, resolution=0.005):
     scene = ag.make_scene(model, fluid="simple")
-    scene = replace(scene, surface=body_surface(model, resolution))
+    scene = replace(scene, fluid=replace(scene.fluid, surface=body_surface(model, resolution)))
     state = ag.init_state(scene, qvel=qvel)
     return ag.rollout(scene, state, None, seconds, dt=dt)
 
@@ -184,7 +184,7 @@ def test_the_eel_swims_forward_in_the_simple_fluid():
 def test_simple_scene_needs_no_grid_and_keeps_one_if_given():
     model = plate(0.05, 0.04, 0.002)
     bare = ag.make_scene(model, fluid="simple")
-    assert bare.grid is None and bare.surface is not None and bare.drag_coefficient == K
+    assert bare.grid is None and bare.fluid.surface is not None and bare.fluid.drag_coefficient == K
     state = ag.init_state(bare)
     assert state.velocity is None and state.grid is None
     creature = ag.creatures.get("eel2d")
@@ -192,6 +192,6 @@ def test_simple_scene_needs_no_grid_and_keeps_one_if_given():
     halved = ag.make_scene(model, fluid="simple", drag_coefficient=0.5)
     qd = np.array([0, 0, 0.3, 0, 0, 0.0])
     np.testing.assert_allclose(
-        drag_force(halved.surface, halved.dynamics, model.qpos0, qd, RHO, halved.drag_coefficient),
-        0.5 * drag_force(bare.surface, bare.dynamics, model.qpos0, qd, RHO),
+        drag_force(halved.fluid.surface, halved.dynamics, model.qpos0, qd, RHO, 0.5),
+        0.5 * drag_force(bare.fluid.surface, bare.dynamics, model.qpos0, qd, RHO),
     )

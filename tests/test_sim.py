@@ -31,7 +31,7 @@ def creature(request):
 
 def test_scene_grid_defaults_to_the_creature_and_is_centred_on_it(creature):
     scene = ag.make_scene(creature)
-    assert scene.fluid == "none"
+    assert scene.fluid.name == "none"
     assert scene.grid.shape == creature.resolution and scene.grid.cell_size == creature.cell_size
     centre = np.asarray(scene.grid.origin) + np.asarray(scene.grid.shape) * scene.grid.cell_size / 2
     com = scene.dynamics.center_of_mass(creature.model.qpos0)[: creature.dim]

@@ -46,7 +46,7 @@ def test_symmetric_creature_with_a_mirrored_gait_does_not_drift_sideways_or_turn
     spec = GaitSpec(dofs=("left", "right"), mirror=(("right", "left", -1.0),))
     gait = spec.unpack([0.6, 0.0])  # legs sweep out and in together
     policy = StablePD.tuned(model, gait, natural_frequency=100.0, damping_ratio=1.5)
-    scene = ag.make_scene(model, (64, 32), 0.008, fluid="euler")
+    scene = ag.make_scene(model, (64, 40), 0.008, fluid="euler")  # room for the legs
     traj = ag.rollout(scene, ag.init_state(scene), policy, seconds=1.0)
     x, y, theta = traj.qpos[:, 0], traj.qpos[:, 1], traj.qpos[:, 2]
     print(f"frog2d 1 s: x {x[-1] - x[0]:+.4f} m, |y| {np.abs(y).max():.2e} m, "
@@ -59,7 +59,7 @@ def test_symmetric_creature_with_a_mirrored_gait_does_not_drift_sideways_or_turn
 
 def test_fish_with_a_tail_beat_swims_forward_in_3d():
     fish = ag.creatures.get("fish")
-    traj = swim(fish, fish.default_gait, 1.5, (40, 20, 20), 0.005)
+    traj = swim(fish, fish.default_gait, 1.5, (40, 24, 28), 0.005)
     forward = traj.qpos[-1, 0] - traj.qpos[0, 0]
     sideways = np.abs(traj.qpos[-1, 1:3] - traj.qpos[0, 1:3]).max()  # net, past the recoil
     print(f"fish 1.5 s: forward {forward:+.4f} m, sideways {sideways:.4f} m")
@@ -77,5 +77,5 @@ def test_a_run_that_blows_up_says_when_and_how_fast_instead_of_writing_nans():
         tau[eel.model.actuated_dofs] = 1e3
         return tau
 
-    with pytest.raises(SimulationDiverged, match=r"diverged at t = [\d.]+ s: the fluid reached"):
+    with pytest.raises(SimulationDiverged, match=r"diverged at t = [\d.]+ s: in one step the body"):
         ag.rollout(scene, ag.init_state(scene), flail, seconds=1.0)

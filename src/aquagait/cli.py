@@ -11,7 +11,7 @@ from pathlib import Path
 
 import aquagait
 from aquagait.bench import BENCHMARKS
-from aquagait.sim import FLUIDS_NOW
+from aquagait.sim import FLUIDS
 
 DEMO_GRID = ((64, 32), 0.02)
 """The demo optimizes on a coarse grid (cells, cell size [m]), then swims at the default."""
@@ -276,7 +276,7 @@ def build_parser() -> argparse.ArgumentParser:
     swim.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
     swim.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
     swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
-    swim.add_argument("--fluid", choices=FLUIDS_NOW, default="euler")
+    swim.add_argument("--fluid", choices=list(FLUIDS), default="euler")
     swim.add_argument(
         "--resolution",
         type=int,

@@ -128,16 +128,45 @@ def coupled_system(
     return pressure_system(voxels.solid, low_rank, sealed=True)  # voxelize sealed pockets
 
 
+@dataclass(frozen=True, eq=False)
+class CoupledProblem:
+    """One coupled pressure solve's inputs, at the body's pose ``q^n`` (module docstring).
+
+    Attributes:
+        grid: the MAC grid.
+        voxels: the body voxelized at ``q^n``.
+        velocity_star: advected face velocities ``u*`` [m/s].
+        qvel_star: (nv,) body velocities predicted without pressure ``qd*``.
+        mass_t: ``Mt = M + dt Kd``, (nv, nv) [kg, kg m^2].
+        jacobians: (m, 3, nv) point Jacobians at the coupled face centres.
+        dt: time step [s].
+        density: ``rho`` [kg/m^3].
+        area: a coupled face's area ``A`` [m^2] (``face_area``).
+    """
+
+    grid: Grid
+    voxels: Voxels
+    velocity_star: Velocity
+    qvel_star: np.ndarray
+    mass_t: np.ndarray
+    jacobians: np.ndarray
+    dt: float
+    density: float
+    area: float
+
+    @property
+    def rows(self) -> np.ndarray:
+        """Rows of ``B^T``, (m, nv): ``coupled_rows``."""
+        return coupled_rows(self.voxels, self.jacobians, self.area)
+
+    @property
+    def scale(self) -> float:
+        """``rho h / (dt A)``: turns a net outflow [m^3/s] into the equations' units."""
+        return self.density * self.grid.cell_size / (self.dt * self.area)
+
+
 def solve_coupled(
-    grid: Grid,
-    voxels: Voxels,
-    velocity_star: Velocity,
-    qvel_star: np.ndarray,
-    mass_t: np.ndarray,
-    jacobians: np.ndarray,
-    dt: float,
-    density: float,
-    area: float,
+    problem: CoupledProblem,
     pressure: np.ndarray | None = None,
     tol: float = COUPLED_TOLERANCE,
     solve=pcg,
@@ -145,15 +174,7 @@ def solve_coupled(
     """Solve for the pressure that moves fluid and body together (module docstring).
 
     Args:
-        grid: the MAC grid.
-        voxels: the body at ``q^n``.
-        velocity_star: advected face velocities ``u*`` [m/s].
-        qvel_star: (nv,) body velocities predicted without pressure ``qd*``.
-        mass_t: ``Mt``, (nv, nv).
-        jacobians: (m, 3, nv) point Jacobians at the coupled face centres.
-        dt: time step [s].
-        density: ``rho`` [kg/m^3].
-        area: ``A`` [m^2] (``face_area``).
+        problem: ``u*``, ``qd*``, ``Mt``, the voxels and Jacobians at ``q^n``.
         pressure: warm start [Pa].
         tol: stop when every cell's ``|net outflow| <= tol * U * A`` (U: the
             fastest face or body-surface speed).
@@ -161,19 +182,22 @@ def solve_coupled(
     Returns:
         the fluid and body velocities after the pressure acted, and the pressure.
     """
-    grid.check_velocity(velocity_star, "velocity_star")
-    u = tuple(np.array(c, dtype=float) for c in velocity_star)
+    grid, voxels, area = problem.grid, problem.voxels, problem.area
+    grid.check_velocity(problem.velocity_star, "velocity_star")
+    u = tuple(np.array(c, dtype=float) for c in problem.velocity_star)
     set_solid_faces_(grid, u, voxels.solid)  # D sums over fluid faces only
-    rows = coupled_rows(voxels, jacobians, area)
-    system = coupled_system(voxels, rows, mass_t, grid, density, area)
-    body_outflow = _per_cell(grid, voxels, rows @ qvel_star)  # B^T qd*
-    scale = density * grid.cell_size / (dt * area)
+    rows, scale = problem.rows, problem.scale
+    system = coupled_system(voxels, rows, problem.mass_t, grid, problem.density, area)
+    surface_outflow = rows @ problem.qvel_star
+    body_outflow = _per_cell(grid, voxels, surface_outflow)  # B^T qd*
     rhs = scale * (body_outflow - area * fluid_outflow(grid, u, voxels.solid))
-    speed = max(max(np.abs(c).max() for c in u), np.abs(rows @ qvel_star).max(initial=0.0) / area)
+    speed = max(max(np.abs(c).max() for c in u), np.abs(surface_outflow).max(initial=0.0) / area)
     result = solve(system, rhs, atol=tol * max(speed, 1e-30) * scale * area, x0=pressure)
-    subtract_gradient_(grid, u, result.x, voxels.solid, dt / (density * grid.cell_size))
+    subtract_gradient_(
+        grid, u, result.x, voxels.solid, problem.dt / (problem.density * grid.cell_size)
+    )
     force = -rows.T @ result.x[tuple(voxels.face_cell.T)]  # -B p
-    qvel = qvel_star + dt * np.linalg.solve(mass_t, force)
+    qvel = problem.qvel_star + problem.dt * np.linalg.solve(problem.mass_t, force)
     return CoupledSolve(u, qvel, result.x, force, result.iterations)
 
 
@@ -240,17 +264,7 @@ def _per_cell(grid: Grid, voxels: Voxels, per_face: np.ndarray) -> np.ndarray:
 # --- the slow reference ---------------------------------------------------------
 
 
-def dense_coupled_system(
-    grid: Grid,
-    voxels: Voxels,
-    velocity_star: Velocity,
-    qvel_star: np.ndarray,
-    mass_t: np.ndarray,
-    jacobians: np.ndarray,
-    dt: float,
-    density: float,
-    area: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def dense_coupled_system(problem: CoupledProblem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The coupled system assembled from the physics, densely; for tests only.
 
     Every cell's net outflow after a step is an affine function of the
@@ -264,8 +278,10 @@ def dense_coupled_system(
     Returns:
         ``(matrix, rhs, fluid_cells)``: (n, n), (n,) and (n, dim) cell indices.
     """
+    grid, voxels, jacobians = problem.grid, problem.voxels, problem.jacobians
+    dt, density, area, mass_t = problem.dt, problem.density, problem.area, problem.mass_t
     fluid_cells = np.argwhere(~voxels.solid)
-    scale = density * grid.cell_size / (dt * area)
+    scale = problem.scale
 
     def outflow(p, u_star, qd_star):
         u = tuple(np.array(c, dtype=float) for c in u_star)
@@ -286,9 +302,9 @@ def dense_coupled_system(
             )
         return total[~voxels.solid]
 
-    base = outflow(grid.zeros_cells(), velocity_star, qvel_star)
+    base = outflow(grid.zeros_cells(), problem.velocity_star, problem.qvel_star)
     still = grid.zeros_velocity()
-    at_rest = np.zeros_like(qvel_star)
+    at_rest = np.zeros_like(problem.qvel_star)
     matrix = np.zeros((len(fluid_cells), len(fluid_cells)))
     for column, cell in enumerate(fluid_cells):
         unit = grid.zeros_cells()

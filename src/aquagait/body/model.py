@@ -78,8 +78,9 @@ class Model:
         lower, upper: (na,) joint limits of the actuated DOFs [rad] (a ball
             joint's limit applies to each component).
         mass: total mass [kg] (2D: of the prism of depth ``depth``).
-        extent: (3,) sides of the world bounding box of all geoms at the
-            reference pose [m].
+        bounds: (2, 3) lower and upper corners of the world bounding box of
+            all geoms at the reference pose [m].
+        extent: (3,) its sides [m].
         body_length: the longest of them [m].
         qpos0: (nq,) reference configuration.
     """
@@ -97,6 +98,7 @@ class Model:
     lower: np.ndarray
     upper: np.ndarray
     mass: float
+    bounds: np.ndarray
     extent: np.ndarray
     body_length: float
     qpos0: np.ndarray
@@ -315,7 +317,8 @@ def _build(mj, facts: CompiledFacts, source, dim, depth, root) -> Model:
     lower = np.concatenate([_limits(j)[0] for j in actuated]) if actuated else np.zeros(0)
     upper = np.concatenate([_limits(j)[1] for j in actuated]) if actuated else np.zeros(0)
     box = facts.geom_box
-    extent = box[:, 1].max(axis=0) - box[:, 0].min(axis=0)
+    bounds = np.stack([box[:, 0].min(axis=0), box[:, 1].max(axis=0)])
+    extent = bounds[1] - bounds[0]
     return Model(
         source=source,
         mj=mj,
@@ -330,6 +333,7 @@ def _build(mj, facts: CompiledFacts, source, dim, depth, root) -> Model:
         lower=lower,
         upper=upper,
         mass=float(facts.link_mass.sum()),
+        bounds=bounds,
         extent=extent,
         body_length=float(extent.max()),
         qpos0=facts.qpos0,

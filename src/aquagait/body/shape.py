@@ -77,6 +77,8 @@ class BodyShape:
         dims: (nl, 3) int64 samples per axis, ``(n0, n1, 1)`` in 2D, zeros for
             a link without geoms.
         lower: (nl, 3) rest-frame position of each link's first sample [m].
+        bounds: (nl, 2, 3) lower and upper corners of each link's geoms' box
+            in its rest frame [m] (zeros for a link without geoms).
     """
 
     dim: int
@@ -90,6 +92,7 @@ class BodyShape:
     offset: np.ndarray
     dims: np.ndarray
     lower: np.ndarray
+    bounds: np.ndarray
 
     @property
     def nlinks(self) -> int:
@@ -119,10 +122,11 @@ def body_shape(model, cell_size: float, refine: int = REFINE) -> BodyShape:
         raise ValueError(f"refine must be a whole number of samples per cell >= 1, got {refine!r}")
     facts, faces = describe(model.mj), mesh_faces(model.mj)
     spacing = float(cell_size) / int(refine)
-    grids, lowers = [], []
+    grids, lowers, bounds = [], [], []
     for k, name in enumerate(facts.link_names):
         geoms = np.flatnonzero(facts.geom_link == k)
         phi, lower = _bake_link(facts, faces, geoms, k, spacing, model.dim)
+        bounds.append(_link_bounds(facts, geoms, k))
         if phi.size > MAX_SAMPLES:
             raise ValueError(
                 f"{model.source}: link {name!r} needs {phi.size} signed-distance samples at "
@@ -144,7 +148,44 @@ def body_shape(model, cell_size: float, refine: int = REFINE) -> BodyShape:
         offset=np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64),
         dims=np.array([g.shape for g in grids], dtype=np.int64).reshape(-1, 3),
         lower=np.array(lowers, dtype=float).reshape(-1, 3),
+        bounds=np.array(bounds, dtype=float).reshape(-1, 2, 3),
     )
+
+
+def _link_bounds(facts, geoms, k) -> np.ndarray:
+    """(2, 3) box of a link's geoms in its rest frame [m] (zeros without geoms)."""
+    if geoms.size == 0:
+        return np.zeros((2, 3))
+    origin = facts.link_pos[k]
+    return (
+        np.stack([facts.geom_box[geoms, 0].min(axis=0), facts.geom_box[geoms, 1].max(axis=0)])
+        - origin
+    )
+
+
+def world_bounds(shape: BodyShape, link_pos, link_rot) -> np.ndarray:
+    """A world box holding every link's geoms at a pose: (2, 3) lower and upper corners [m].
+
+    Each link's rest-frame box of geoms (``bounds``) is turned with the link,
+    so the result holds the body wherever it is; at the reference pose it is
+    the model's own ``bounds``. In 2D the z extent is zero.
+
+    Args:
+        shape: the baked geometry.
+        link_pos: (nl, 3) world origins of the links [m].
+        link_rot: (nl, 3, 3) world rotations of the links.
+    """
+    has_geoms = shape.dims[:, 0] > 0
+    lo, hi = shape.bounds[has_geoms, 0], shape.bounds[has_geoms, 1]
+    if shape.dim == 2:
+        lo, hi = lo * [1, 1, 0], hi * [1, 1, 0]  # the cross-section at z = 0
+    corners = np.stack(
+        [np.where(np.array(c, bool), hi, lo) for c in np.ndindex(2, 2, 2)], axis=1
+    )  # (n, 8, 3) in each link's rest frame
+    turn = np.asarray(link_rot)[has_geoms] @ np.swapaxes(shape.rest_rot[has_geoms], 1, 2)
+    world = np.asarray(link_pos)[has_geoms, None, :] + np.einsum("kij,kcj->kci", turn, corners)
+    world = world.reshape(-1, 3)
+    return np.stack([world.min(axis=0), world.max(axis=0)])
 
 
 def _bake_link(facts, faces, geoms, k, spacing, dim):

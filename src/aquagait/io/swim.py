@@ -165,8 +165,8 @@ def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
         },
         "period": setup.period,
         "seconds": setup.seconds,
-        "fluid": setup.scene.fluid,
-        "drag_coefficient": setup.scene.drag_coefficient if setup.scene.fluid == "simple" else None,
+        "fluid": setup.scene.fluid.name,
+        "fluid_settings": setup.scene.fluid.settings(),
         "density": setup.scene.density,
         "resolution": None if grid is None else list(grid.shape),
         "cell_size": None if grid is None else grid.cell_size,
@@ -194,7 +194,7 @@ def swim_summary(run: SwimRun, out=None) -> str:
     m, setup = run.metrics, run.setup
     lines = [
         f"{setup.creature.name} swam {m['distance']:.3f} m in {m['duration']:.2f} s "
-        f"({setup.scene.fluid} fluid), from rest: {m['speed_from_rest']:.3f} m/s, "
+        f"({setup.scene.fluid.name} fluid), from rest: {m['speed_from_rest']:.3f} m/s, "
         f"{m['body_lengths_per_cycle_from_rest']:.2f} body lengths per cycle",
         f"energy {m['energy']:.3g} J, cost of transport {m['cost_of_transport']:.3g} J/(kg m)",
         *run.notes,

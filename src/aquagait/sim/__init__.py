@@ -1,0 +1,44 @@
+"""Simulation: a fixed ``Scene``, a changing ``State``, ``step`` and ``rollout`` (DESIGN.md §3, §4).
+
+    scene   = make_scene(creature, fluid=EulerFluid())   # or fluid="euler" | "simple" | "none"
+    state   = init_state(scene)
+    state   = step(scene, state, dt, policy)
+    traj    = rollout(scene, state, policy, seconds)
+
+Modules, one concept each: ``scene`` (Scene, State, make_scene, init_state),
+``fluids`` (the fluid models Vacuum, SimpleFluid and EulerFluid, each owning
+its fields, its step and its largest stable step), ``servo`` (the body's half
+of every step: the policy seam and the stable PD), ``follow`` (the grid that
+follows the swimmer), ``rollout`` (step, advance, rollout, Trajectory) and
+``frames`` (the fluid recorded per frame).
+"""
+
+from aquagait.sim.fluids import FLUIDS, EulerFluid, FluidModel, SimpleFluid, Vacuum, fluid_model
+from aquagait.sim.follow import CLEARANCE, BodyOutsideGrid
+from aquagait.sim.frames import FluidFrames
+from aquagait.sim.rollout import FRAMES_PER_SECOND, Trajectory, advance, rollout, step
+from aquagait.sim.scene import Scene, State, init_state, make_scene
+from aquagait.sim.servo import SimulationDiverged, SimulationError
+
+__all__ = [
+    "CLEARANCE",
+    "FLUIDS",
+    "FRAMES_PER_SECOND",
+    "BodyOutsideGrid",
+    "EulerFluid",
+    "FluidFrames",
+    "FluidModel",
+    "Scene",
+    "SimpleFluid",
+    "SimulationDiverged",
+    "SimulationError",
+    "State",
+    "Trajectory",
+    "Vacuum",
+    "advance",
+    "fluid_model",
+    "init_state",
+    "make_scene",
+    "rollout",
+    "step",
+]

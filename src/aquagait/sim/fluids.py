@@ -1,0 +1,290 @@
+"""Fluid models: what the water does to the body, each owning its fields, step and time step.
+
+A fluid model is an object passed to ``make_scene``, not a string tested in
+branches (DESIGN.md §3). Each has
+
+    name                          'none', 'simple' or 'euler'
+    max_dt                        its default longest step [s]
+    bind(model, grid) -> model    the model with what it bakes for this creature
+    init(scene, state) -> State   the state with its fields at rest
+    step(scene, state, dt, policy) -> State
+    longest_step(state, dt) -> float   the largest stable step now, at most dt
+    settings() -> dict            its parameters, for config.json
+
+Three are here. ``Vacuum``: the body moves under its own joint forces alone.
+``SimpleFluid`` (paper §7, DESIGN.md §2.6): no grid; every surface patch that
+moves into the still water feels the quadratic drag ``-k rho A v_n^2 n``
+(``aquagait.drag``), added explicitly to the joint forces of a vacuum step.
+``EulerFluid``: the inviscid fluid of ``aquagait.fluid``, two-way coupled
+through one pressure solve (``aquagait.coupling``, paper §3.3); its step
+reads like the paper's algorithm box:
+
+    voxelize the links at q^n            solid cells, coupled faces
+    advect the fluid                      u* (faces in the body carry its velocity)
+    predict the body                      Mt qd* = Mt qd^n + dt (tau - c)
+    coupled pressure solve                p, u^{n+1}, qd^{n+1}
+    move the body, then the grid          q^{n+1}; whole-cell shifts follow the swimmer
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from numbers import Real
+from typing import TYPE_CHECKING, ClassVar, Protocol
+
+from aquagait.body.surface import Surface, body_surface
+from aquagait.body.voxelize import Voxels, voxelize
+from aquagait.coupling import (
+    COUPLED_TOLERANCE,
+    CoupledProblem,
+    face_area,
+    rigid_faces_,
+    solve_coupled,
+)
+from aquagait.drag import DRAG_COEFFICIENT, drag_force
+from aquagait.fluid.advection import advect_velocity, bfecc
+from aquagait.fluid.pcg import pcg
+from aquagait.grid import Grid, max_speed
+from aquagait.sim.follow import CLEARANCE, body_bounds, check_room, follow, room
+from aquagait.sim.servo import (
+    SimulationDiverged,
+    move_body,
+    predict_body,
+    servo_forces,
+    servo_mass,
+)
+
+if TYPE_CHECKING:
+    from aquagait.body.model import Model
+    from aquagait.sim.scene import Scene, State
+
+SMALLEST_STEP = 1e-3
+"""A CFL step below this fraction of ``dt`` means the flow has blown up."""
+
+
+class FluidModel(Protocol):
+    """What ``aquagait.sim`` asks of a fluid model (module docstring)."""
+
+    name: ClassVar[str]
+    max_dt: float
+
+    def bind(self, model: Model, grid: Grid | None) -> FluidModel: ...
+    def init(self, scene: Scene, state: State) -> State: ...
+    def step(self, scene: Scene, state: State, dt: float, policy) -> State: ...
+    def longest_step(self, state: State, dt: float) -> float: ...
+    def settings(self) -> dict: ...
+
+
+@dataclass(frozen=True)
+class Vacuum:
+    """No fluid: the body under its own joint forces.
+
+    Attributes:
+        max_dt: default longest step [s]; the stable PD allows up to about
+            1/45 s (``aquagait.control.pd``).
+    """
+
+    name: ClassVar[str] = "none"
+    max_dt: float = 1 / 300
+
+    def bind(self, model: Model, grid: Grid | None) -> Vacuum:
+        return self
+
+    def init(self, scene: Scene, state: State) -> State:
+        return state
+
+    def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
+        tau, damping = servo_forces(scene, state, dt, policy)  # the stable PD: at t + dt
+        qdd = predict_body(scene, state, dt, tau, damping)  # (M + dt Kd) qdd = tau - c
+        return move_body(scene, state, dt, tau, damping, state.qvel + dt * qdd)
+
+    def longest_step(self, state: State, dt: float) -> float:
+        return dt
+
+    def settings(self) -> dict:
+        return {}
+
+
+@dataclass(frozen=True)
+class SimpleFluid:
+    """The paper's simple fluid (§7): quadratic drag on every surface patch, no flow.
+
+    The drag is evaluated at the start of the step (explicit) and joins the
+    policy's force; the energy counts only the actuators' work, as in the
+    other fluids.
+
+    Attributes:
+        drag_coefficient: k of ``-k rho A v_n^2 n`` (``aquagait.drag``), >= 0.
+        max_dt: default longest step [s]. The drag is explicit: a patch of
+            area A on a link of mass m moving at v loses the fraction
+            ``dt k rho A v / m`` of its speed a step, which must stay well
+            below 1 (for a neutrally buoyant plate of thickness t,
+            ``dt k v / t``: at 1/300 s, 0.1 for the fish's 3 mm tail fin at
+            1 m/s). At 1/300 s the eel's and the fish's distance over 2 s are
+            1.5% and 2.6% short of their dt -> 0 limit, their energy 2% (first
+            order in dt); at 1/90 s they still swim, 7% and 11% short.
+        surface: the links' surface patches, baked by ``bind``.
+    """
+
+    name: ClassVar[str] = "simple"
+    drag_coefficient: float = DRAG_COEFFICIENT
+    max_dt: float = 1 / 300
+    surface: Surface | None = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self):
+        k = self.drag_coefficient
+        if not (isinstance(k, Real) and math.isfinite(k) and k >= 0):
+            raise ValueError(f"drag_coefficient must be >= 0 and finite, got {k!r}")
+
+    def bind(self, model: Model, grid: Grid | None) -> SimpleFluid:
+        return replace(self, surface=body_surface(model))
+
+    def init(self, scene: Scene, state: State) -> State:
+        return state
+
+    def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
+        tau, damping = servo_forces(scene, state, dt, policy)
+        drag = drag_force(self.surface, scene.dynamics, state.qpos, state.qvel, scene.density,
+                          self.drag_coefficient)  # fmt: skip
+        qdd = predict_body(scene, state, dt, tau + drag, damping)
+        return move_body(scene, state, dt, tau, damping, state.qvel + dt * qdd)
+
+    def longest_step(self, state: State, dt: float) -> float:
+        return dt
+
+    def settings(self) -> dict:
+        return {"drag_coefficient": self.drag_coefficient}
+
+
+@dataclass(frozen=True)
+class EulerFluid:
+    """The inviscid incompressible fluid, two-way coupled with the body (paper §3).
+
+    Attributes:
+        advect: the advection scheme (``aquagait.fluid.advection``: ``bfecc``
+            or ``semi_lagrangian``).
+        solve: the linear solver of the coupled system (``pcg``).
+        tolerance: the coupled solve's, relative to the fastest speed
+            (``aquagait.coupling.COUPLED_TOLERANCE``).
+        clearance: cells of water kept between the body and every wall
+            (``aquagait.sim.follow``).
+        cfl: Courant number: the fastest fluid or body surface moves at most
+            this many cells a step.
+        max_dt: default longest step [s]: three steps a 1/30 s frame. Against
+            steps of 1/300 s, the eel's and the fish's distance over 1.5-2 s
+            differ by 0.9% and 1.3%, their energy by 4% and 9% (first order
+            in dt).
+        area: a coupled face's area A [m^2], set by ``bind``.
+    """
+
+    name: ClassVar[str] = "euler"
+    advect: Callable = bfecc
+    solve: Callable = pcg
+    tolerance: float = COUPLED_TOLERANCE
+    clearance: float = CLEARANCE
+    cfl: float = 1.0
+    max_dt: float = 1 / 90
+    area: float | None = field(default=None, repr=False, compare=False)
+
+    def bind(self, model: Model, grid: Grid | None) -> EulerFluid:
+        if grid is None:
+            raise ValueError(
+                f"fluid 'euler' needs a grid: give resolution and cell_size for {model.source}"
+            )
+        check_room(model, grid, self.clearance)
+        return replace(self, area=face_area(grid, model.depth))
+
+    def init(self, scene: Scene, state: State) -> State:
+        grid = scene.grid
+        if (room(grid, body_bounds(scene, state.qpos)) < self.clearance).any():
+            raise ValueError(
+                f"the body at the given qpos is less than {self.clearance:g} cells from a wall "
+                "of the grid: start it nearer the grid's centre"
+            )
+        velocity = grid.zeros_velocity()
+        rigid_faces_(grid, velocity, _voxels(scene, grid, state.qpos),
+                     _point_velocity(scene, state.qpos, state.qvel))  # fmt: skip
+        return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
+
+    def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
+        """One two-way coupled step (module docstring, DESIGN.md §2.3)."""
+        grid, q = state.grid, state.qpos
+        grid.check_dt(state.velocity, dt)
+        voxels = _voxels(scene, grid, q)
+        advected = advect_velocity(grid, state.velocity, dt, scheme=self.advect)
+        tau, damping = servo_forces(scene, state, dt, policy)
+        qvel_star = state.qvel + dt * predict_body(scene, state, dt, tau, damping)
+        solved = self._coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping)
+        rigid_faces_(grid, solved.velocity, voxels, _point_velocity(scene, q, solved.qvel))
+        moved = move_body(scene, state, dt, tau, damping, solved.qvel)
+        moved = replace(moved, velocity=solved.velocity, pressure=solved.pressure)
+        return follow(scene, moved, self.clearance)
+
+    def _coupled_solve(self, scene, state, voxels, advected, qvel_star, dt, damping):
+        q = state.qpos
+        problem = CoupledProblem(
+            grid=state.grid, voxels=voxels, velocity_star=advected, qvel_star=qvel_star,
+            mass_t=servo_mass(scene, q, dt, damping),
+            jacobians=scene.dynamics.point_jacobians(q, voxels.face_center, voxels.face_link),
+            dt=dt, density=scene.density, area=self.area,
+        )  # fmt: skip
+        return solve_coupled(problem, pressure=state.pressure, tol=self.tolerance, solve=self.solve)
+
+    def longest_step(self, state: State, dt: float) -> float:
+        """The CFL step, at most ``dt``.
+
+        Raises:
+            SimulationDiverged: the flow grew so fast that the step fell below
+                ``SMALLEST_STEP * dt``.
+        """
+        longest = state.grid.cfl_dt(state.velocity, cfl=self.cfl, max_dt=dt)
+        if longest < SMALLEST_STEP * dt:
+            raise SimulationDiverged(
+                f"simulation diverged at t = {state.time:.4g} s: the fluid reached "
+                f"{max_speed(state.velocity):.3g} m/s, which would need steps of "
+                f"{longest:.2g} s; lower the torques (the gait's amplitudes or the "
+                "PD gains), or check the model's masses"
+            )
+        return longest
+
+    def settings(self) -> dict:
+        return {
+            "advect": getattr(self.advect, "__name__", repr(self.advect)),
+            "solve": getattr(self.solve, "__name__", repr(self.solve)),
+            "tolerance": self.tolerance,
+            "clearance": self.clearance,
+            "cfl": self.cfl,
+        }
+
+
+def _voxels(scene: Scene, grid: Grid, q) -> Voxels:
+    return voxelize(scene.shape, grid, *scene.dynamics.link_poses(q))
+
+
+def _point_velocity(scene: Scene, q, qd):
+    """The rigid velocity of points moving with links: the body-to-fluid seam."""
+    return lambda points, links: scene.dynamics.point_velocities(q, qd, points, links)
+
+
+FLUIDS = {model.name: model for model in (Vacuum, SimpleFluid, EulerFluid)}
+"""The fluid models by name, for ``make_scene(fluid="euler")`` and the command line."""
+
+
+def fluid_model(fluid) -> FluidModel:
+    """A fluid model from itself or its name ('none', 'simple', 'euler').
+
+    Raises:
+        ValueError: an unknown name.
+    """
+    if isinstance(fluid, str):
+        if fluid not in FLUIDS:
+            raise ValueError(f"unknown fluid {fluid!r}; fluids: {', '.join(FLUIDS)}")
+        return FLUIDS[fluid]()
+    if all(hasattr(fluid, a) for a in ("bind", "init", "step", "longest_step", "max_dt")):
+        return fluid
+    raise TypeError(
+        f"fluid must be a fluid model (Vacuum(), SimpleFluid(), EulerFluid()) or one of "
+        f"{', '.join(map(repr, FLUIDS))}; got {fluid!r}"
+    )

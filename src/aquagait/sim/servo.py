@@ -1,0 +1,123 @@
+"""The body's half of every step: the policy's force, the stable PD prediction, the work done.
+
+The controller seam (STYLE.md §6). A *policy* is any callable
+
+    policy(t, q, qd) -> tau    # (nv,) generalized force [N or N m]
+
+applied over the step. Plain callables are explicit: ``tau`` is evaluated at
+the start of the step. A policy may also carry ``damping``, (nv,) diagonal
+gains Kd [N m s/rad]; the step then treats it as a servo evaluated at the end
+of the step (the stable PD of Tan et al. 2011, paper §3.2): it calls
+``policy(t + dt, q + dt qd, qd)`` and solves
+
+    (M + dt Kd) qdd = tau - c
+
+so that with ``tau = -Kp (q - qbar) - Kd qd`` it is exactly DESIGN.md §2.2.
+The force actually applied is ``tau - Kd (qd^{n+1} - qd^n)``; the step records
+it and adds ``|tau_i qd_i| dt`` per DOF to the energy. ``policy=None`` applies
+nothing. ``aquagait.control`` provides such policies; this package never
+imports it.
+
+Time integration is semi-implicit Euler: ``qd += dt qdd``, then ``q`` moves
+with the new ``qd`` (quaternions on the unit sphere).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from aquagait.sim.scene import Scene, State
+
+
+class SimulationError(RuntimeError):
+    """A simulation cannot go on; the message says when, where and what to change."""
+
+
+class SimulationDiverged(SimulationError):
+    """The state stopped being finite; the message says when and where."""
+
+
+def servo_forces(scene: Scene, state: State, dt: float, policy) -> tuple[np.ndarray, np.ndarray]:
+    """The policy's force and implicit damping for this step, each (nv,).
+
+    A policy with ``damping`` is evaluated at the predicted end of the step,
+    ``(t + dt, q + dt qd, qd)``; any other at ``(t, q, qd)``.
+    """
+    nv = scene.model.nv
+    if policy is None:
+        return np.zeros(nv), np.zeros(nv)
+    damping = getattr(policy, "damping", None)
+    if damping is None:
+        tau, damping = policy(state.time, state.qpos, state.qvel), np.zeros(nv)
+    else:
+        ahead = scene.dynamics.integrate(state.qpos, state.qvel, dt)
+        tau = policy(state.time + dt, ahead, state.qvel)
+    tau = np.asarray(tau, dtype=float)
+    damping = np.asarray(damping, dtype=float)
+    if tau.shape != (nv,) or damping.shape != (nv,):
+        raise ValueError(
+            f"policy returned tau {tau.shape} and damping {damping.shape}; both must be ({nv},)"
+        )
+    return tau, damping
+
+
+def servo_mass(scene: Scene, q, dt: float, damping) -> np.ndarray:
+    """``Mt = M(q) + dt Kd``, (nv, nv): the mass the stable PD's implicit damping adds to."""
+    mass = scene.dynamics.mass_matrix(q)
+    mass[np.diag_indices_from(mass)] += dt * damping
+    return mass
+
+
+def predict_body(scene: Scene, state: State, dt: float, tau, damping) -> np.ndarray:
+    """Accelerations qdd (nv,) from ``(M + dt Kd) qdd = tau - c`` (DESIGN.md §2.2, step 2)."""
+    mass = servo_mass(scene, state.qpos, dt, damping)
+    force = tau - scene.dynamics.bias(state.qpos, state.qvel)
+    try:
+        qdd = np.linalg.solve(mass, force)
+    except np.linalg.LinAlgError:
+        qdd = np.full(len(force), np.nan)
+    if not np.all(np.isfinite(qdd)):
+        raise SimulationDiverged(
+            f"simulation diverged at t = {state.time:.4g} s: no finite acceleration "
+            f"(|q| up to {np.abs(state.qpos).max():.3g}, |tau| up to {np.abs(tau).max():.3g}); "
+            "gains too stiff for dt?"
+        )
+    return qdd
+
+
+def account_work(state: State, dt: float, tau, damping, qvel):
+    """The force applied over the step and the energy so far, each (nv,).
+
+    The implicit damping adds ``-Kd (qd^{n+1} - qd^n)`` to the policy's force
+    (``-dt Kd qdd``); the work is counted as ``|tau_i qd_i| dt`` with the
+    velocity that moves the positions, so spending and braking both cost
+    (DESIGN.md §2.4, E_energy).
+    """
+    applied = tau - damping * (qvel - state.qvel)
+    return applied, state.energy + dt * np.abs(applied * qvel)
+
+
+def move_body(scene: Scene, state: State, dt: float, tau, damping, qvel) -> State:
+    """``q^{n+1}`` from ``qd^{n+1}``, the force applied and the work done; checked finite."""
+    qpos = scene.dynamics.integrate(state.qpos, qvel, dt)
+    torque, energy = account_work(state, dt, tau, damping, qvel)
+    new = replace(
+        state, time=state.time + dt, qpos=qpos, qvel=qvel, torque=torque, energy=energy,
+        steps=state.steps + 1,
+    )  # fmt: skip
+    return _check_finite(scene, new)
+
+
+def _check_finite(scene: Scene, state: State) -> State:
+    if np.all(np.isfinite(state.qvel)) and np.all(np.isfinite(state.qpos)):
+        return state
+    bad = np.flatnonzero(~np.isfinite(state.qvel))
+    where = ", ".join(scene.model.dof_names[i] for i in bad[:3]) if bad.size else "qpos"
+    raise SimulationDiverged(
+        f"simulation diverged at t = {state.time:.4g} s: non-finite state at {where} "
+        "(gains too stiff for dt? use a stable PD or a smaller dt)"
+    )
