@@ -223,7 +223,7 @@ def sealed(solid: np.ndarray) -> np.ndarray:
     return ~reached.reshape(solid.shape)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def flood_from_border_(solid, reached):
     """Set ``reached`` at every fluid cell joined to the array's border by fluid, in place.
 

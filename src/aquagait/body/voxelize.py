@@ -165,7 +165,7 @@ def _origin_3d(origin, h: float) -> np.ndarray:
 # --- kernels ------------------------------------------------------------------
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
     """Cells (out[a] = first, last) whose centres lie in the world box of a link's grid."""
     lo = np.full(3, np.inf)
@@ -188,7 +188,7 @@ def cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
         out[a, 1] = int(min(max(last, -1.0), shape[a] - 1))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def link_distance(sdf, base, dims, lower, spacing, rot, pos, x, y, z):
     """Interpolated signed distance of one link at a world point [m]; +inf off its grid.
 
@@ -221,7 +221,7 @@ def link_distance(sdf, base, dims, lower, spacing, rot, pos, x, y, z):
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _paint_owners_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, owner, best, box):
     """Mark cells inside links with the deepest link, in place; box = solid bounds (lo, hi)."""
     nx, ny, nz = owner.shape
@@ -249,7 +249,7 @@ def _paint_owners_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, owner
                         box[2], box[5] = min(box[2], l), max(box[5], l)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _expanded(box, shape, a):
     """The solid bounds along axis ``a`` grown by one cell, clipped to the grid."""
     return max(box[a] - 1, 0), min(box[3 + a] + 1, shape[a] - 1)
@@ -324,7 +324,7 @@ def _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1):
                 tail += 1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _coupled_faces(owner, box):
     """Faces between a fluid and a solid cell: axis, face index, sign, fluid cell, link."""
     none, rows = np.empty(0, dtype=np.int64), np.empty((0, 3), dtype=np.int64)
@@ -338,7 +338,7 @@ def _coupled_faces(owner, box):
     return axis, index, sign, cell, link
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _face_sweep_(owner, box, axis, index, sign, cell, link):
     """Count the coupled faces; fill the arrays too when they are long enough."""
     if box[3] < 0:

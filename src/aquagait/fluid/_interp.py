@@ -160,7 +160,7 @@ def _velocity_3d(u, v, w, nx, ny, nz, x, y, z):
     )
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def departure_2d(u2, v2, ox, oy, dt_h, px, py, qx, qy):
     """RK2 (midpoint) back-trace from every sample of a 2D field, over ``dt`` and ``-dt``.
 
@@ -190,7 +190,7 @@ def departure_2d(u2, v2, ox, oy, dt_h, px, py, qx, qy):
                 qy[i, j] = _clamp(y + dt_h * vy - oy, my)
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def departure_3d(u3, v3, w3, ox, oy, oz, dt_h, px, py, pz, qx, qy, qz):
     """RK2 (midpoint) back-trace from every sample of a 3D field; see ``departure_2d``."""
     nx, ny, nz = v3.shape[0], u3.shape[1], u3.shape[2]
@@ -218,7 +218,7 @@ def departure_3d(u3, v3, w3, ox, oy, oz, dt_h, px, py, pz, qx, qy, qz):
                     qz[i, j, k] = _clamp(z + dt_h * vz - oz, mz)
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def gather_2d(phi2, px, py, out):
     """``out = phi`` interpolated bilinearly at field coordinates ``(px, py)``."""
     n0, n1 = phi2.shape
@@ -227,7 +227,7 @@ def gather_2d(phi2, px, py, out):
         o[b] = _interp_2d(phi, n0, n1, x[b], y[b])
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def gather_3d(phi3, px, py, pz, out):
     """``out = phi`` interpolated trilinearly at field coordinates ``(px, py, pz)``."""
     n0, n1, n2 = phi3.shape
@@ -236,7 +236,7 @@ def gather_3d(phi3, px, py, pz, out):
         o[b] = _interp_3d(phi, n0, n1, n2, x[b], y[b], z[b])
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def compensate_2d(phi2, phi1_2, qx, qy, out):
     """BFECC's middle pass: ``out = phi + (phi - phi1(q)) / 2``, ``phi1`` interpolated at ``q``."""
     n0, n1 = phi2.shape
@@ -245,7 +245,7 @@ def compensate_2d(phi2, phi1_2, qx, qy, out):
         o[b] = phi[b] + 0.5 * (phi[b] - _interp_2d(phi1, n0, n1, x[b], y[b]))
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def compensate_3d(phi3, phi1_3, qx, qy, qz, out):
     """BFECC's middle pass in 3D; see ``compensate_2d``."""
     n0, n1, n2 = phi3.shape
@@ -255,7 +255,7 @@ def compensate_3d(phi3, phi1_3, qx, qy, qz, out):
         o[b] = phi[b] + 0.5 * (phi[b] - _interp_3d(phi1, n0, n1, n2, x[b], y[b], z[b]))
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def limited_gather_2d(phi_tilde2, phi2, px, py, out):
     """Interpolate ``phi_tilde`` at ``(px, py)``, clamped to the range of ``phi`` on the 4 nodes."""
     n0, n1 = phi2.shape
@@ -272,7 +272,7 @@ def limited_gather_2d(phi_tilde2, phi2, px, py, out):
         o[n] = min(max(_bilerp(pt, b, sx, fx, fy), lo), hi)
 
 
-@njit(cache=True, fastmath=_FAST)
+@njit(cache=True, fastmath=_FAST, nogil=True)
 def limited_gather_3d(phi_tilde3, phi3, px, py, pz, out):
     """Interpolate ``phi_tilde`` at ``(px, py, pz)``, clamped to ``phi``'s range on the 8 nodes."""
     n0, n1, n2 = phi3.shape

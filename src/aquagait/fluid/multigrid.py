@@ -131,7 +131,7 @@ def _coarsen(solid: np.ndarray) -> np.ndarray:
     return ~blocks.any(axis=tuple(range(1, 2 * solid.ndim, 2)))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _fill_diag(solid, diag, three_d):
     nx, ny, nz = solid.shape
     kz = 1 if three_d else 0
@@ -152,7 +152,7 @@ def _fill_diag(solid, diag, three_d):
                 diag[i + 1, j + 1, k + kz] = count
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def laplacian(x, diag, out, three_d):
     """``out = L x`` in the padded layout: ``diag * x - sum of neighbours``."""
     nx, ny, nz = x.shape
@@ -170,7 +170,7 @@ def laplacian(x, diag, out, three_d):
                 out[i, j, k] = d * x[i, j, k] - s
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _smooth(x, b, inverse, color, three_d):
     """One red (color 0) or black (color 1) Gauss-Seidel half sweep, in place.
 
@@ -190,7 +190,7 @@ def _smooth(x, b, inverse, color, three_d):
                 x[i, j, 0] = (b[i, j, 0] + s) * inverse[i, j, 0]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _residual(x, b, diag, r, three_d):
     laplacian(x, diag, r, three_d)
     nx, ny, nz = x.shape
@@ -208,13 +208,13 @@ def _residual(x, b, diag, r, three_d):
 # on the smallest array and the big passes vectorize. Fine ghosts hold zero.
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _last_tap(f, n):
     """The fourth tap of a restriction window starting at ``f``: (index, weight)."""
     return (f + 3, 0.25) if f + 3 < n else (f + 2, 0.0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _restrict(r, diag_c, b_c, t1, t2, three_d):
     """``b_c = (4 / 2^dim) P^T r`` on non-solid coarse cells (``t1``, ``t2``: scratch)."""
     fx, fy, fz = r.shape
@@ -254,7 +254,7 @@ def _restrict(r, diag_c, b_c, t1, t2, three_d):
                 b_c[I, J, K] = scale * v * (diag_c[I, J, K] != 0.0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _prolong_add(x_c, x, inverse, t1, t2, three_d):
     """``x += P x_c`` on non-solid fine cells (``t1``, ``t2``: scratch).
 
@@ -289,7 +289,7 @@ def _prolong_add(x_c, x, inverse, t1, t2, three_d):
                 x[i, j, k] += (0.75 * c[I, j, k] + 0.25 * c[I2, j, k]) * (inverse[i, j, k] != 0.0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _jacobi(x, b, diag, inverse, out, three_d):
     """One damped Jacobi sweep ``out = x + omega (b - L x) / diag`` (weighted for 3D).
 
@@ -309,7 +309,7 @@ def _jacobi(x, b, diag, inverse, out, three_d):
                 out[i, j, k] = x[i, j, k] + omega * inverse[i, j, k] * residual
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _smooth_(x, b, diag, inverse, tmp, sweeps, adjoint, three_d):
     """``sweeps`` smoothing steps on ``x`` in place; ``adjoint`` reverses the order.
 
@@ -326,7 +326,7 @@ def _smooth_(x, b, diag, inverse, tmp, sweeps, adjoint, three_d):
             _smooth(x, b, inverse, 0 if adjoint else 1, three_d)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _presmooth_from_zero(x, b, diag, inverse, tmp, sweeps, three_d):
     """``x = 0`` then ``_smooth_``; in 3D the first Jacobi sweep from zero is just
     ``omega b / diag``, an elementwise pass instead of a stencil."""
@@ -341,13 +341,13 @@ def _presmooth_from_zero(x, b, diag, inverse, tmp, sweeps, three_d):
     _smooth_(x, b, diag, inverse, tmp, sweeps - 1, False, three_d)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _level(buffer, shapes, offsets, level):
     lo, hi = offsets[level], offsets[level + 1]
     return buffer[lo:hi].reshape((shapes[level, 0], shapes[level, 1], shapes[level, 2]))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d):
     """``z = V r``: one symmetric multigrid V-cycle, the preconditioner of ``pcg``.
 

@@ -239,7 +239,7 @@ def _as_3d(field: np.ndarray) -> np.ndarray:
     return field.reshape(field.shape + (1,) * (3 - field.ndim))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _load_fluid_(x, field, diag):
     """``x = field`` at fluid cells of the padded ``x`` and 0 elsewhere."""
     kz = 1 if x.shape[2] > 1 else 0
@@ -252,7 +252,7 @@ def _load_fluid_(x, field, diag):
                     x[i + 1, j + 1, k + kz] = field[i, j, k]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _initial_residual_(r, b, ad, diag):
     """``r = b - A x`` at fluid cells (0 elsewhere), given ``ad = A x``; returns ``max |r|``."""
     _load_fluid_(r, b, diag)
@@ -264,7 +264,7 @@ def _initial_residual_(r, b, ad, diag):
     return residual
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _add_low_rank_(x, cells, rows, core, out):
     """``out += U C U^T x`` with ``U`` given by its nonzero rows at flat ``cells``."""
     flat_x, flat_out = x.ravel(), out.ravel()
@@ -276,7 +276,7 @@ def _add_low_rank_(x, cells, rows, core, out):
         flat_out[cells[r]] += np.dot(rows[r], cw)
 
 
-@numba.njit(cache=True, fastmath=True)
+@numba.njit(cache=True, fastmath=True, nogil=True)
 def _dot(a, b):
     fa, fb = a.ravel(), b.ravel()
     total = 0.0
@@ -285,7 +285,7 @@ def _dot(a, b):
     return total
 
 
-@numba.njit(cache=True, fastmath=True)
+@numba.njit(cache=True, fastmath=True, nogil=True)
 def _step_(x, r, d, ad, alpha):
     """``x += alpha d``, ``r -= alpha A d``; returns ``max |r|``."""
     fx, fr, fd, fad = x.ravel(), r.ravel(), d.ravel(), ad.ravel()
@@ -297,7 +297,7 @@ def _step_(x, r, d, ad, alpha):
     return residual
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _new_direction_(d, z, beta):
     """``d = z + beta d``."""
     fd, fz = d.ravel(), z.ravel()

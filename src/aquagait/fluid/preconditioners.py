@@ -48,7 +48,7 @@ def mic0(system):
     return lambda r, z: _mic0_solve(diag, factor, r, scratch, z, three_d)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _mic0_factor(d, pre, three_d):
     """Inverse square roots of the MIC(0) pivots, in lexicographic order."""
     nx, ny, nz = d.shape
@@ -73,7 +73,7 @@ def _mic0_factor(d, pre, three_d):
                 pre[i, j, k] = 1.0 / np.sqrt(e)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _forward_couplings(d, i, j, k, axis, three_d):
     """Number of fluid neighbours of (i, j, k) ahead of it along the axes other than ``axis``."""
     total = 0.0
@@ -86,7 +86,7 @@ def _forward_couplings(d, i, j, k, axis, three_d):
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _mic0_solve(d, pre, r, q, z, three_d):
     """Forward then backward substitution with the factor (``z`` zeroed first: it is reused)."""
     z[:] = 0.0

@@ -158,7 +158,7 @@ def _as_3d(velocity: Velocity) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 # padded layout (cells.py) those are f + 1 - e_a and f + 1 (x, y; z too in 3D).
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _fix_solid_faces(comps, solid_comps, at_rest, solid, dim):
     """Set faces touching a solid to the solid's velocity; return the max speed."""
     kz = 1 if dim == 3 else 0
@@ -177,7 +177,7 @@ def _fix_solid_faces(comps, solid_comps, at_rest, solid, dim):
     return speed
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _outflow(comps, solid, factor, out, dim):
     """``out = factor * D u`` at fluid cells of the padded ``out``, 0 at solid ones."""
     u, v, w = comps
@@ -196,7 +196,7 @@ def _outflow(comps, solid, factor, out, dim):
                 out[i, j, k] = factor * d
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _subtract_gradient(comps, p, solid, factor, dim):
     """``u -= factor * (p_hi - p_lo)`` on faces between two non-solid cells, in place."""
     kz = 1 if dim == 3 else 0

@@ -7,6 +7,15 @@ shared between threads: a Dask worker runs one evaluation per thread, and two
 solves writing the same vectors give wrong numbers without any error. So each
 thread keeps its own, for as long as it lives (a worker's threads live as long
 as the worker, so each pays for its pages once).
+
+The kernels of the step (advection, pressure solve, voxelization) are compiled
+with ``nogil=True``, so threads do step at once. Measured: two swims of
+different gaits, one after the other, against the same two in two threads of
+one process (same numbers, bit for bit), median of 5 tries, on 2 cores with
+other jobs running, in two sessions: the eel on its default 128x64 grid (1 s)
+1.31x and 1.38x faster in threads, the fish on 64x32x32 (0.2 s) 1.16x and
+1.76x; with the kernels holding the GIL, 0.91x to 1.00x. The rest of a step
+(NumPy, MuJoCo, Python) still takes turns.
 """
 
 from __future__ import annotations
