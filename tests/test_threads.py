@@ -27,14 +27,14 @@ import numpy as np
 import pytest
 
 import aquagait as ag
-from aquagait.io.optimize import SwimObjective, prepare_optimization
+from aquagait.app.optimize import SwimObjective, prepare_optimization
 from aquagait.optimize import optimize
 
-EEL_GRID = ((40, 20), 0.032)
-"""The smallest grid that holds the 0.5 m eel with its margin: a swim costs ~0.2 s of CPU."""
+EEL_GRID = ((40, 28), 0.032)
+"""Coarse cells, and room for the 0.5 m eel swinging with 8 cells of water a side."""
 
-FISH_GRID = ((24, 12, 12), 0.01)
-"""The 10 cm fish in a 24 x 12 x 12 cm box."""
+FISH_GRID = ((28, 20, 22), 0.01)
+"""1 cm cells, and room for the 10 cm fish with 8 cells of water a side."""
 
 
 @pytest.fixture
