@@ -11,11 +11,12 @@ as the worker, so each pays for its pages once).
 The kernels of the step (advection, pressure solve, voxelization) are compiled
 with ``nogil=True``, so threads do step at once. Measured: two swims of
 different gaits, one after the other, against the same two in two threads of
-one process (same numbers, bit for bit), median of 5 tries, on 2 cores with
-other jobs running, in two sessions: the eel on its default 128x64 grid (1 s)
-1.31x and 1.38x faster in threads, the fish on 64x32x32 (0.2 s) 1.16x and
-1.76x; with the kernels holding the GIL, 0.91x to 1.00x. The rest of a step
-(NumPy, MuJoCo, Python) still takes turns.
+one process (same numbers, bit for bit), median of 5 tries on 2 cores, in four
+sessions, two of them with other jobs running: the eel on its default 128x64
+grid (1 s) 1.31x to 1.45x faster in threads, the fish on 64x32x32 (0.2 s)
+1.16x to 1.80x (1.80x twice on a quieter machine); with the kernels holding
+the GIL, 0.90x to 1.00x. The rest of a step (NumPy, MuJoCo, Python) still
+takes turns.
 """
 
 from __future__ import annotations
