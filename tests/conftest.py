@@ -2,6 +2,8 @@
 
 import pytest
 
+import aquagait as ag
+
 # A planar two-link body: one actuated DOF, so a servo's stability bound is exact.
 TWO_LINKS = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
   <worldbody><body name="front">
@@ -17,3 +19,9 @@ TWO_LINKS = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></cus
 def two_links() -> str:
     """MJCF text of the planar two-link body."""
     return TWO_LINKS
+
+
+@pytest.fixture(scope="session")
+def eel():
+    """The library's eel2d creature."""
+    return ag.creatures.get("eel2d")

@@ -84,6 +84,7 @@ def test_swim_in_the_fluid_with_a_gait_file_and_a_video(tmp_path, capsys):
         (["swim", "eel2d", "--fluid", "none", "--resolution", "8", "8", "8"], "has 3 entries"),
         (["swim", "fish", "--fluid", "none", "--resolution", "8", "8"], "give (nx, ny, nz)"),
         (["swim", "eel2d", "--seconds", "-1", "--fluid", "none"], "seconds must be a positive"),
+        (["swim", "eel2d", "--resolution", "8", "4"], "use at least 75x20 cells"),
     ],
 )
 def test_swim_mistakes_get_a_message_and_status_2(tmp_path, capsys, argv, message):
@@ -91,6 +92,14 @@ def test_swim_mistakes_get_a_message_and_status_2(tmp_path, capsys, argv, messag
     err = capsys.readouterr().err
     assert err.startswith("aquagait swim: error: ") and message in err
     assert "Traceback" not in err and not (tmp_path / "run").exists()
+
+
+@pytest.mark.parametrize("command", [["swim", "eel2d"], ["optimize", "eel2d"], ["demo"]])
+def test_an_output_directory_that_cannot_be_written_stops_before_any_work(capsys, command):
+    assert main([*command, "--out", "/proc/x"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot write the run directory /proc/x" in err and "Traceback" not in err
+    assert "swimming" not in err and "generation" not in err
 
 
 def test_a_bad_gait_file_names_the_fix(tmp_path, capsys):

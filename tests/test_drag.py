@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import aquagait as ag
+from aquagait.app.optimize import SwimObjective
 from aquagait.body import Dynamics, load_model
 from aquagait.body.surface import body_surface
 from aquagait.drag import DRAG_COEFFICIENT, drag_force, patch_forces
-from aquagait.io.optimize import SwimObjective
 
 RHO = 1000.0
 K = DRAG_COEFFICIENT

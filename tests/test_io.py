@@ -1,30 +1,21 @@
-"""Run directories, trajectories and gait files on disk; preparing and keeping a swim."""
+"""Run directories, trajectories and gait files on disk."""
 
 import json
 
 import numpy as np
 import pytest
 
-import aquagait as ag
 from aquagait.io import (
     GaitFileError,
-    SwimSetupError,
     load_trajectory,
-    prepare_swim,
+    prepare_directory,
     read_gait,
     read_run,
-    run_swim,
     save_trajectory,
     write_gait,
     write_run,
-    write_swim,
 )
 from aquagait.sim import FluidFrames, Trajectory
-
-
-@pytest.fixture(scope="module")
-def eel():
-    return ag.creatures.get("eel2d")
 
 
 def random_trajectory(model, frames=5, plane=(6, 4), seed=0):
@@ -142,44 +133,10 @@ def _write(path, text):
 # --- swims ---------------------------------------------------------------------------
 
 
-def test_swim_settings_are_checked_before_simulating(tmp_path, eel):
-    with pytest.raises(
-        SwimSetupError, match="unknown creature 'eal'; known creatures: accordion2d, eel2d"
-    ):
-        prepare_swim("eal")
-    with pytest.raises(SwimSetupError, match="has 3 entries but .* is 2D"):
-        prepare_swim("eel2d", fluid="none", resolution=(8, 8, 8))
-    with pytest.raises(SwimSetupError, match="unknown fluid 'air'"):
-        prepare_swim("eel2d", fluid="air")
-    with pytest.raises(SwimSetupError, match="seconds must be a positive number"):
-        prepare_swim("eel2d", fluid="none", seconds=0)
-    with pytest.raises(SwimSetupError, match="does not exist"):
-        prepare_swim("eel2d", gait=tmp_path / "none.json", fluid="none")
-    with pytest.raises(SwimSetupError, match="has 8 gait parameters"):
-        prepare_swim("eel2d", gait=[0.1, 0.2], fluid="none")
-
-
-def test_a_swim_is_kept_in_its_run_directory(tmp_path, eel):
-    gait = write_gait(tmp_path / "mine.json", eel, eel.default_gait * 0.5)
-    setup = prepare_swim("eel2d", gait=gait, seconds=2.0, fluid="none", resolution=(64, 32))
-    calls = []
-    run = run_swim(setup, progress=lambda done, total: calls.append((done, total)))
-    assert calls[0] == (1, 60) and calls[-1] == (60, 60)
-    assert run.notes == () and run.metrics["tail_amplitude"] > 0  # two cycles: steady figures
-    out = write_swim(run, tmp_path / "runs" / "eel2d")
-    names = {"config.json", "gait.json", "trajectory.npz", "metrics.json"}
-    assert {p.name for p in out.iterdir()} == names
-    back = read_run(out)
-    assert_same(run.trajectory, back.trajectory)
-    config = back.config
-    assert config["resolution"] == [64, 32] and config["cell_size"] == eel.cell_size
-    assert config["fluid"] == "none" and config["fps"] == 30 and config["frames"] == 61
-    assert config["gait"]["source"] == str(gait) and config["dt"] == pytest.approx(1 / 300)
-    np.testing.assert_allclose(read_gait(out / "gait.json", eel).params, eel.default_gait * 0.5)
-
-
-def test_a_swim_shorter_than_two_cycles_says_what_it_cannot_measure(eel):
-    run = run_swim(prepare_swim("eel2d", seconds=0.2, fluid="none"))
-    assert "strouhal" not in run.metrics and "steady_speed" not in run.metrics
-    assert "distance" in run.metrics and "speed_from_rest" in run.metrics
-    assert "less than two gait cycles of 1 s: no steady figures" in run.notes[0]
+def test_a_directory_that_cannot_be_written_is_named_with_the_reason(tmp_path):
+    assert prepare_directory(tmp_path / "a" / "b").is_dir()
+    with pytest.raises(OSError, match="cannot write the run directory /proc/x"):
+        prepare_directory("/proc/x")
+    (tmp_path / "file").write_text("")
+    with pytest.raises(OSError, match="Not a directory"):
+        prepare_directory(tmp_path / "file" / "run")

@@ -22,6 +22,7 @@ LAYERS = [
     {"creatures"},
     {"io"},
     {"viz"},
+    {"app"},
     {"bench"},
     {"cli"},
 ]
@@ -35,6 +36,7 @@ ADAPTERS = {
     "dask": {"optimize/"},
 }
 PHYSICS = {"grid", "fluid", "body", "coupling", "sim"}
+ONLY_FROM = {"viz": {"app"}}  # pictures are drawn by the jobs users run, nowhere else
 
 
 def _modules():
@@ -77,6 +79,8 @@ def _violations(rel: str, path: Path) -> list[str]:
                 problems.append(f"{rel} imports aquagait.{target}, a layer at or above its own")
             if unit == "optimize" and target in PHYSICS:
                 problems.append(f"{rel} imports aquagait.{target}: optimize knows no physics")
+            if target in ONLY_FROM and unit not in ONLY_FROM[target]:
+                problems.append(f"{rel} imports aquagait.{target}; only {ONLY_FROM[target]} may")
         elif top in ADAPTERS and not any(rel.startswith(a) for a in ADAPTERS[top]):
             problems.append(f"{rel} imports {top}; only {sorted(ADAPTERS[top])} may")
     return problems
@@ -98,3 +102,9 @@ def test_checker_catches_a_sibling_import(tmp_path):
     bad = tmp_path / "voxelize.py"
     bad.write_text("import aquagait.fluid.projection as projection\n")
     assert _violations("body/voxelize.py", bad)
+
+
+def test_checker_catches_pictures_drawn_outside_the_jobs(tmp_path):
+    bad = tmp_path / "cli.py"
+    bad.write_text("from aquagait.viz import render_swim\n")
+    assert _violations("cli.py", bad)

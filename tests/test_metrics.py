@@ -17,11 +17,6 @@ from aquagait.sim import Trajectory
 FPS = 40  # samples t = 0.25 and 0.75 s exactly: the peaks of a 1 s sine
 
 
-@pytest.fixture(scope="module")
-def eel():
-    return ag.creatures.get("eel2d")
-
-
 def synthetic(model, qpos_of_t, seconds=2.0, fps=FPS, power=0.5):
     """A trajectory with positions from ``qpos_of_t`` and energy spent at ``power`` [W]."""
     time = np.arange(round(seconds * fps) + 1) / fps

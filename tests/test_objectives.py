@@ -31,11 +31,6 @@ def trajectory(qpos, energy=None, fps=30.0):
     return Trajectory(time, qpos, zeros, zeros, energy, 1 / 300, fps)
 
 
-@pytest.fixture(scope="module")
-def eel():
-    return ag.creatures.get("eel2d")
-
-
 def test_distance_is_the_displacement_along_the_direction(eel):
     path = np.zeros((31, eel.model.nq))
     path[:, 0] = np.linspace(0, 0.3, 31)  # 0.3 m along x

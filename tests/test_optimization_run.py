@@ -11,7 +11,7 @@ import pytest
 
 import aquagait as ag
 from aquagait import cli
-from aquagait.io.optimize import (
+from aquagait.app.optimize import (
     JointLimits,
     OptimizationSetupError,
     SwimObjective,

@@ -13,14 +13,6 @@ import aquagait
 from aquagait.bench import BENCHMARKS
 from aquagait.sim import FLUIDS
 
-DEMO_GRID = ((64, 32), 0.02)
-"""The demo optimizes on a coarse grid (cells, cell size [m]), then swims at the default."""
-
-DEFAULT_GRID_TEXT = "128x64"
-
-DEMO_SWIM = 4.0
-"""Seconds the demo's best gait swims on the default grid (four cycles)."""
-
 
 def _cmd_bench(args) -> int:
     from aquagait.bench import run_benchmark
@@ -37,7 +29,7 @@ def _cmd_creatures(args) -> int:
 
 
 def _cmd_swim(args) -> int:
-    from aquagait.io import SwimSetupError, prepare_swim
+    from aquagait.app import SetupError, output_directory, prepare_swim
 
     try:
         setup = prepare_swim(
@@ -48,40 +40,28 @@ def _cmd_swim(args) -> int:
             resolution=args.resolution,
             cell_size=args.cell_size,
         )
-    except SwimSetupError as err:
+        out = output_directory(args.out or Path("runs") / args.name)
+    except SetupError as err:
         return _fail("swim", err, status=2)
-    return _swim_and_render(setup, args.out or Path("runs") / args.name, not args.no_video)
+    return _swim_and_write(setup, out, not args.no_video)
 
 
-def _swim_and_render(setup, out, video: bool, extra_config=None) -> int:
+def _swim_and_write(setup, out: Path, video: bool, extra_config=None) -> int:
     """Swim a prepared setup, write its run directory and (optionally) its video."""
-    from aquagait.io import run_swim, swim_summary, write_swim
-    from aquagait.sim import SimulationDiverged
+    from aquagait.app import run_swim, swim_summary, write_swim
+    from aquagait.sim import SimulationError
 
     try:
         run = run_swim(setup, progress=ProgressBar("swimming"))
-    except SimulationDiverged as err:
+    except SimulationError as err:
         return _fail("swim", err, status=1)
-    out = write_swim(run, out)
-    if extra_config:
-        from aquagait.io.run import read_json, write_json
-
-        write_json(out / "config.json", {**read_json(out / "config.json"), **extra_config})
-    if video:
-        from aquagait.viz import render_swim
-
-        render_swim(
-            run.trajectory,
-            setup.creature.model,
-            out / "swim.mp4",
-            progress=ProgressBar("rendering"),
-        )
+    write_swim(run, out, video, extra_config, progress=ProgressBar("rendering"))
     print(swim_summary(run, out))
     return 0
 
 
 def _cmd_optimize(args) -> int:
-    from aquagait.io.optimize import OptimizationSetupError, prepare_optimization
+    from aquagait.app import SetupError, output_directory, prepare_optimization
 
     try:
         setup = prepare_optimization(
@@ -92,19 +72,17 @@ def _cmd_optimize(args) -> int:
             resolution=args.resolution,
             cell_size=args.cell_size,
         )
-    except OptimizationSetupError as err:
+        out = output_directory(args.out or Path("runs") / args.name)
+    except SetupError as err:
         return _fail("optimize", err, status=2)
-    out = Path(args.out or Path("runs") / args.name)
     return _optimize_and_swim(setup, out, args, video=not args.no_video)
 
 
-def _optimize_and_swim(setup, out: Path, args, video: bool, swim_grid=None, seconds=None) -> int:
+def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, seconds=None):
     """Optimize, write gait.json and convergence.png, then swim the best gait."""
-    from aquagait.io import prepare_swim, write_gait
-    from aquagait.io.optimize import run_optimization
-    from aquagait.optimize import LOG
+    from aquagait.app import run_optimization, write_optimization
+    from aquagait.app.optimize import best_swim
 
-    out.mkdir(parents=True, exist_ok=True)
     try:
         with _executor(args) as executor:
             workers = getattr(executor, "workers", 1)
@@ -114,19 +92,11 @@ def _optimize_and_swim(setup, out: Path, args, video: bool, swim_grid=None, seco
             result = run_optimization(setup, out, executor, args.resume, GenerationLine())
     except (FileExistsError, FileNotFoundError, ValueError, ImportError, OSError) as err:
         return _fail("optimize", err, status=2)
-    write_gait(out / "gait.json", setup.creature, result.best_x)
-    if video:
-        from aquagait.viz import plot_convergence
-
-        plot_convergence(out / LOG, out / "convergence.png", title=setup.creature.name)
+    write_optimization(setup, result, out, plot=video)
     print(f"best objective {result.best_f:.4g} after {result.evaluations} samples "
           f"({result.stopped})")  # fmt: skip
-    resolution, cell_size = swim_grid or (setup.objective.resolution, setup.objective.cell_size)
-    swim = prepare_swim(
-        setup.creature.name, gait=out / "gait.json", seconds=seconds or setup.objective.seconds,
-        resolution=resolution, cell_size=cell_size,
-    )  # fmt: skip
-    return _swim_and_render(swim, out, video, extra_config={"optimization": setup.config()})
+    swim = best_swim(setup, out, default_grid=default_grid, seconds=seconds)
+    return _swim_and_write(swim, out, video, extra_config={"optimization": setup.config()})
 
 
 def _executor(args):
@@ -141,57 +111,53 @@ def _executor(args):
 
 
 def _cmd_demo(args) -> int:
-    from aquagait.io.optimize import prepare_optimization
+    from aquagait import creatures
+    from aquagait.app import SetupError, demo, output_directory
 
-    setup = prepare_optimization(
-        "eel2d", generations=args.generations, seed=args.seed,
-        resolution=DEMO_GRID[0], cell_size=DEMO_GRID[1],
-    )  # fmt: skip
+    try:
+        setup = demo.prepare_demo(generations=args.generations, seed=args.seed)
+        out = output_directory(args.out)
+    except SetupError as err:
+        return _fail("demo", err, status=2)
     args.resume = args.scheduler = None
-    out = Path(args.out)
-    print(f"aquagait demo: CMA-ES finds eel2d a gait on a {DEMO_GRID[0][0]}x{DEMO_GRID[0][1]} "
-          f"grid, then it swims at {DEFAULT_GRID_TEXT} into {out}/", file=sys.stderr)  # fmt: skip
-    return _optimize_and_swim(setup, out, args, True, swim_grid=(None, None), seconds=DEMO_SWIM)
+    (nx, ny), fine = demo.GRID[0], creatures.get(demo.CREATURE).resolution
+    print(f"aquagait demo: CMA-ES finds {demo.CREATURE} a gait on a {nx}x{ny} grid, then it "
+          f"swims at {fine[0]}x{fine[1]} into {out}/", file=sys.stderr)  # fmt: skip
+    return _optimize_and_swim(setup, out, args, True, default_grid=True, seconds=demo.SWIM_SECONDS)
 
 
 def _cmd_compare(args) -> int:
-    import json
-
-    from aquagait.io import SwimSetupError, write_swim
-    from aquagait.io.compare import cross_optimize, forward_distance, swim_both
+    from aquagait.app import SetupError, output_directory
+    from aquagait.app.compare import cross_optimize, forward_distance, swim_both, write_compare
+    from aquagait.sim import SimulationError
 
     grid = dict(resolution=args.resolution, cell_size=args.cell_size)
-    out = Path(args.out or Path("runs") / f"{args.name}-compare")
     try:
+        out = output_directory(args.out or Path("runs") / f"{args.name}-compare")
         runs = swim_both(args.name, args.gait, args.seconds, progress=_fluid_bar(), **grid)
-    except SwimSetupError as err:
+    except SetupError as err:
         return _fail("compare", err, status=2)
-    summary = {"gait": str(args.gait or "default"), "seconds": args.seconds, "swims": {}}
+    except SimulationError as err:
+        return _fail("compare", err, status=1)
     for fluid, run in runs.items():
-        write_swim(run, out / fluid)
-        summary["swims"][fluid] = {"distance": forward_distance(run), **run.metrics}
         m = run.metrics
         steady = f", {m['steady_body_lengths_per_cycle']:.3f} steady" if "steady_speed" in m else ""
         print(f"{fluid:>7} fluid: {forward_distance(run):+.4f} m along x, "
               f"{m['body_lengths_per_cycle_from_rest']:.3f} body lengths per cycle from rest"
               f"{steady}")  # fmt: skip
-    if not args.no_video:
-        from aquagait.viz import plot_displacement, render_side_by_side
-
-        model = next(iter(runs.values())).setup.creature.model
-        plot_displacement(runs, out / "displacement.png", title=args.name)
-        render_side_by_side(runs, model, out / "compare.mp4", progress=ProgressBar("rendering"))
+    cross = None
     if args.optimize:
         print(f"optimizing {args.name} in each fluid ({args.optimize} generations)...",
               file=sys.stderr)  # fmt: skip
         with _executor(args) as executor:
-            summary["cross"] = cross_optimize(
+            cross = cross_optimize(
                 args.name, args.optimize, args.seconds, executor=executor, **grid
             )
-        for trained, swum in summary["cross"]["distance"].items():
+        for trained, swum in cross["distance"].items():
             row = ", ".join(f"in {fluid} {metres:+.4f} m" for fluid, metres in swum.items())
             print(f"gait trained in the {trained} fluid swims {row}")
-    (out / "compare.json").write_text(json.dumps(summary, indent=2, default=float))
+    write_compare(runs, out, args.gait, cross, video=not args.no_video,
+                  progress=ProgressBar("rendering"))  # fmt: skip
     print(f"wrote {out}/")
     return 0
 

@@ -16,11 +16,6 @@ SHAPES = """<mujoco><worldbody><body name="a" pos=".1 .2 .3"><freejoint/>
     </body></body></worldbody></mujoco>"""
 
 
-@pytest.fixture(scope="module")
-def eel():
-    return ag.creatures.get("eel2d")
-
-
 def test_points_lie_on_their_geoms():
     model = ag.load_model(SHAPES)
     (a, box), (_, sphere), (b, capsule), (_, cylinder) = geom_point_sets(model)

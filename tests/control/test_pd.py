@@ -18,11 +18,6 @@ BALL = """<mujoco><worldbody><body name="shell"><freejoint/>
   </body></worldbody></mujoco>"""
 
 
-@pytest.fixture(scope="module")
-def eel():
-    return ag.creatures.get("eel2d")
-
-
 def eel_gait(amplitude=0.3):
     spec = GaitSpec(dofs=("j1", "j2", "j3", "j4"))
     return spec.unpack(spec.pack(amplitude=amplitude, phase=-1.5 * np.arange(4)))

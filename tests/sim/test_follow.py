@@ -8,11 +8,6 @@ from aquagait.body.voxelize import voxelize
 from aquagait.sim import CLEARANCE, BodyOutsideGrid, advance
 
 
-@pytest.fixture(scope="module")
-def eel():
-    return ag.creatures.get("eel2d")
-
-
 def swim(eel, scene, seconds):
     traj = ag.rollout(scene, ag.init_state(scene), eel.policy(), seconds, record_fluid=False)
     return traj.qpos[-1, 0] - traj.qpos[0, 0], traj.qpos[-1, 2] - traj.qpos[0, 2]

@@ -22,7 +22,7 @@ TARGET_MINUTES = 30.0
 
 def run(repeats: int, out: TextIO) -> list[dict]:
     """Time ``repeats`` samples per worker count and grid; print the table."""
-    from aquagait.io.optimize import SwimObjective
+    from aquagait.app.optimize import SwimObjective
     from aquagait.optimize import local_executor
 
     samples = _admissible_gaits(max(repeats, 4))

@@ -1,9 +1,10 @@
-"""Files in and out: run directories, gait files, and swims kept on disk (DESIGN.md §3, §5).
+"""Files in and out: run directories and gait files (DESIGN.md §3, §5). Files only.
 
-    from aquagait.io import prepare_swim, run_swim, write_swim, read_run, read_gait
+    from aquagait.io import read_run, read_gait, write_gait
 
-See ``aquagait.io.run`` (the run directory's files), ``aquagait.io.gait``
-(``gait.json``) and ``aquagait.io.swim`` (swim a creature and keep the run).
+See ``aquagait.io.run`` (the run directory's files) and ``aquagait.io.gait``
+(``gait.json``). The jobs that write them (swim, optimize, compare, demo)
+are ``aquagait.app``'s.
 """
 
 from aquagait.io.gait import GaitFile, GaitFileError, read_gait, write_gait
@@ -11,38 +12,22 @@ from aquagait.io.run import (
     Run,
     library_versions,
     load_trajectory,
+    prepare_directory,
     read_run,
     save_trajectory,
     write_run,
-)
-from aquagait.io.swim import (
-    SwimRun,
-    SwimSetup,
-    SwimSetupError,
-    prepare_swim,
-    run_swim,
-    swim_config,
-    swim_summary,
-    write_swim,
 )
 
 __all__ = [
     "GaitFile",
     "GaitFileError",
     "Run",
-    "SwimRun",
-    "SwimSetup",
-    "SwimSetupError",
     "library_versions",
     "load_trajectory",
-    "prepare_swim",
+    "prepare_directory",
     "read_gait",
     "read_run",
-    "run_swim",
     "save_trajectory",
-    "swim_config",
-    "swim_summary",
     "write_gait",
     "write_run",
-    "write_swim",
 ]

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import json
 import math
+import tempfile
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -82,6 +83,24 @@ def write_run(out, trajectory: Trajectory, config: dict, metrics=None, model=Non
     if metrics is not None:
         units = {k: UNITS[k] for k in metrics if k in UNITS}
         write_json(out / METRICS, {**metrics, "units": units})
+    return out
+
+
+def prepare_directory(out) -> Path:
+    """Create the directory ``out`` (and its parents) and prove it writable, before any work.
+
+    Raises:
+        OSError: it cannot be created or written; the message names the
+            directory and the operating system's reason.
+    """
+    out = Path(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=out):
+            pass
+    except OSError as err:
+        reason = err.strerror or str(err)
+        raise OSError(f"cannot write the run directory {out}: {reason}") from None
     return out
 
 

@@ -4,7 +4,7 @@
     render_side_by_side(runs, model, "runs/compare/compare.mp4")
 
 ``runs`` maps a fluid's name to a swim (anything with a ``trajectory``), as
-``aquagait.io.compare.swim_both`` returns. matplotlib and imageio are imported
+``aquagait.app.compare.swim_both`` returns. matplotlib and imageio are imported
 inside the functions (the ``viz`` extra).
 """
 

@@ -2,12 +2,13 @@
 
     setup = prepare_swim("eel2d", gait="runs/eel2d/gait.json", seconds=2.0)
     run = run_swim(setup, progress=lambda done, total: ...)
-    write_swim(run, "runs/eel2d")   # config.json, gait.json, trajectory.npz, metrics.json
+    write_swim(run, "runs/eel2d", video=True)   # config.json, gait.json, trajectory.npz,
+                                                 # metrics.json, swim.mp4
 
 ``prepare_swim`` resolves and checks every setting before anything is
 simulated and fails with a ``SwimSetupError`` that says what was wrong;
-``run_swim`` simulates and measures; ``write_swim`` writes the run directory.
-The video is ``aquagait.viz.render_swim``'s business (viz sits above io).
+``run_swim`` simulates and measures; ``write_swim`` writes the run directory
+and, if asked, the video (``aquagait.viz``, the ``viz`` extra).
 """
 
 from __future__ import annotations
@@ -19,14 +20,15 @@ from pathlib import Path
 import numpy as np
 
 from aquagait import creatures
+from aquagait.app.errors import SetupError
 from aquagait.creatures import Creature
 from aquagait.io.gait import GaitFileError, read_gait, write_gait
-from aquagait.io.run import library_versions, write_run
+from aquagait.io.run import library_versions, read_json, write_json, write_run
 from aquagait.metrics import NoSteadyWindow, steady_metrics, travel_metrics
 from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
 
 
-class SwimSetupError(ValueError):
+class SwimSetupError(SetupError):
     """A swim cannot start: unknown creature, bad gait file, bad grid or fluid."""
 
 
@@ -134,7 +136,8 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
         progress: optional ``progress(frames_done, frames_total)`` after every frame.
 
     Raises:
-        aquagait.sim.SimulationDiverged: the simulation blew up (time and place in the message).
+        aquagait.sim.SimulationError: the simulation cannot go on (it blew up, or
+            the body outgrew the grid; time and place in the message).
     """
     creature, scene = setup.creature, setup.scene
     policy = creature.policy(setup.params)
@@ -181,11 +184,25 @@ def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
     }
 
 
-def write_swim(run: SwimRun, out) -> Path:
-    """Write the run directory: config.json, gait.json, trajectory.npz and metrics.json."""
+def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progress=None) -> Path:
+    """Write the run directory: config.json, gait.json, trajectory.npz, metrics.json.
+
+    Args:
+        run: from ``run_swim``.
+        out: the run directory (created if missing).
+        video: also render ``swim.mp4`` (the ``viz`` extra).
+        extra_config: entries added to ``config.json`` (e.g. the optimization's settings).
+        progress: optional ``progress(frames_done, frames_total)`` while rendering.
+    """
     creature = run.setup.creature
     out = write_run(out, run.trajectory, run.config, run.metrics, model=creature.model)
     write_gait(out / "gait.json", creature, run.setup.params)
+    if extra_config:
+        write_json(out / "config.json", {**read_json(out / "config.json"), **extra_config})
+    if video:
+        from aquagait.viz import render_swim
+
+        render_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress)
     return out
 
 

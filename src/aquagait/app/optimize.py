@@ -2,7 +2,8 @@
 
     setup = prepare_optimization("eel2d", generations=30, resolution=(64, 32), cell_size=0.02)
     result = run_optimization(setup, run_dir="runs/eel2d", executor=local_executor(2))
-    write_gait(Path("runs/eel2d") / "gait.json", setup.creature, result.best_x)
+    write_optimization(setup, result, "runs/eel2d")   # gait.json, convergence.png
+    swim = best_swim(setup, "runs/eel2d")             # a SwimSetup of the best gait
 
 The physics enters the optimizer through one seam, ``SwimObjective``: a
 picklable ``evaluate(params) -> float`` that swims the gait for two cycles
@@ -16,11 +17,15 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from aquagait import creatures, objectives
+from aquagait.app.errors import SetupError
+from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
+from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import Scene, init_state, make_scene, rollout
 
@@ -33,7 +38,7 @@ POPULATION = {2: 16, 3: 31}
 DEFAULT_GENERATIONS = 100
 
 
-class OptimizationSetupError(ValueError):
+class OptimizationSetupError(SetupError):
     """An optimization cannot start: unknown creature, bad grid, bad budget."""
 
 
@@ -181,6 +186,45 @@ def run_optimization(
     return optimize(
         setup.problem, setup.settings, executor=executor, run_dir=run_dir, resume=resume,
         progress=progress,
+    )  # fmt: skip
+
+
+def write_optimization(setup: OptimizationSetup, result: Result, out, plot: bool = True) -> Path:
+    """Write the best gait (``gait.json``) and, if ``plot``, ``convergence.png`` into ``out``.
+
+    ``optimization.csv`` and the checkpoint are written by the optimizer
+    after every generation; the plot needs the ``viz`` extra.
+    """
+    from aquagait.optimize import LOG
+
+    out = Path(out)
+    write_gait(out / "gait.json", setup.creature, result.best_x)
+    if plot:
+        from aquagait.viz import plot_convergence
+
+        plot_convergence(out / LOG, out / "convergence.png", title=setup.creature.name)
+    return out
+
+
+def best_swim(
+    setup: OptimizationSetup, out, default_grid: bool = False, seconds: float | None = None
+) -> SwimSetup:
+    """The swim of the gait in ``out/gait.json``, on the optimization's grid and fluid.
+
+    Args:
+        setup: the optimization.
+        out: its run directory (holding ``gait.json``).
+        default_grid: swim on the creature's default grid instead (the demo
+            searches on a coarse grid, then swims on the fine one).
+        seconds: simulated time [s]; default the optimization's per sample.
+    """
+    objective = setup.objective
+    resolution, cell_size = (
+        (None, None) if default_grid else (objective.resolution, objective.cell_size)
+    )
+    return prepare_swim(
+        setup.creature.name, gait=Path(out) / "gait.json", seconds=seconds or objective.seconds,
+        fluid=objective.fluid, resolution=resolution, cell_size=cell_size,
     )  # fmt: skip
 
 

@@ -2,6 +2,7 @@
 
     runs = swim_both("accordion2d", gait=None, seconds=3.0)        # {fluid: SwimRun}
     table = cross_optimize("accordion2d", generations=8)           # gait per fluid, swum in each
+    write_compare(runs, "runs/accordion2d-compare", cross=table)   # runs, compare.json, pictures
 
 The paper's point: a simplified fluid misleads. The accordion swims in the
 Euler fluid and stays nearly in place in the simple one, and gaits trained in
@@ -11,10 +12,13 @@ optimizes a gait in each fluid and swims each gait in each fluid.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
-from aquagait.io.optimize import prepare_optimization, run_optimization
-from aquagait.io.swim import SwimRun, prepare_swim, run_swim
+from aquagait.app.optimize import prepare_optimization, run_optimization
+from aquagait.app.swim import SwimRun, prepare_swim, run_swim, write_swim
+from aquagait.io.run import write_json
 
 FLUIDS = ("euler", "simple")
 
@@ -76,3 +80,36 @@ def cross_optimize(
 
 def _grid_for(fluid: str, grid: dict) -> dict:
     return grid if fluid == "euler" else {}
+
+
+def write_compare(
+    runs: dict, out, gait=None, cross=None, video: bool = False, progress=None
+) -> dict:
+    """Write each fluid's run directory, ``compare.json`` and, if ``video``, the pictures.
+
+    Args:
+        runs: ``swim_both``'s ``{fluid: SwimRun}``.
+        out: the directory; each swim goes into ``out/<fluid>/``.
+        gait: where the gait came from (for the summary), None for the shipped gait.
+        cross: ``cross_optimize``'s table, if one was made.
+        video: also write ``displacement.png`` and ``compare.mp4`` (the ``viz`` extra).
+        progress: optional ``progress(frames_done, frames_total)`` while rendering.
+    Returns:
+        The summary written to ``compare.json``.
+    """
+    out = Path(out)
+    seconds = next(iter(runs.values())).setup.seconds
+    summary = {"gait": str(gait or "default"), "seconds": seconds, "swims": {}}
+    for fluid, run in runs.items():
+        write_swim(run, out / fluid)
+        summary["swims"][fluid] = {"distance": forward_distance(run), **run.metrics}
+    if cross is not None:
+        summary["cross"] = cross
+    if video:
+        from aquagait.viz import plot_displacement, render_side_by_side
+
+        creature = next(iter(runs.values())).setup.creature
+        plot_displacement(runs, out / "displacement.png", title=creature.name)
+        render_side_by_side(runs, creature.model, out / "compare.mp4", progress=progress)
+    write_json(out / "compare.json", summary)
+    return summary

@@ -1,0 +1,52 @@
+"""The jobs users run, each prepare -> run -> write (DESIGN.md §3, §5).
+
+    setup = prepare_swim("eel2d", seconds=4.0)     # resolve and check everything; SetupError
+    out = output_directory("runs/eel2d")           # created and writable, or SetupError
+    run = run_swim(setup, progress=...)            # simulate and measure
+    write_swim(run, out, video=True)               # the run directory and its video
+
+``swim``, ``optimize`` (CMA-ES and the best gait's swim), ``compare`` (the
+Euler and the simple fluid) and ``demo``. This is the one layer that joins
+simulation, optimizer, files and pictures; the command line only maps flags
+to its arguments. A mistake in a setting raises a ``SetupError`` whose
+message says what was wrong and what would be right, before anything runs.
+"""
+
+from aquagait.app.errors import SetupError, output_directory
+from aquagait.app.optimize import (
+    OptimizationSetup,
+    OptimizationSetupError,
+    SwimObjective,
+    prepare_optimization,
+    run_optimization,
+    write_optimization,
+)
+from aquagait.app.swim import (
+    SwimRun,
+    SwimSetup,
+    SwimSetupError,
+    prepare_swim,
+    run_swim,
+    swim_config,
+    swim_summary,
+    write_swim,
+)
+
+__all__ = [
+    "OptimizationSetup",
+    "OptimizationSetupError",
+    "SetupError",
+    "SwimObjective",
+    "SwimRun",
+    "SwimSetup",
+    "SwimSetupError",
+    "output_directory",
+    "prepare_optimization",
+    "prepare_swim",
+    "run_optimization",
+    "run_swim",
+    "swim_config",
+    "swim_summary",
+    "write_optimization",
+    "write_swim",
+]
