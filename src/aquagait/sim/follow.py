@@ -10,8 +10,9 @@ the box along that axis. A body too large to fit even then raises
 ``BodyOutsideGrid``, and ``check_room`` refuses such a grid before anything
 is simulated, naming the smallest resolution that would do.
 
-Measured with the shipped eel2d gait, 4 s on its default 128x64 grid of 1 cm
-against a fixed grid long enough never to shift: see ``CLEARANCE``.
+Whichever happens, the step sets the faces that touch the body from its pose
+at the start of the step, in the grid it was solved on, and only then shifts
+the fields: the same rule whether or not the grid moves.
 """
 
 from __future__ import annotations
@@ -32,7 +33,15 @@ if TYPE_CHECKING:
     from aquagait.sim.scene import Scene, State
 
 CLEARANCE = 8
-"""Cells of water kept between the body's bounding box and every wall of the grid."""
+"""Cells of water kept between the body's bounding box and every wall of the grid.
+
+Measured with the shipped eel2d gait, 4 s on its default 128x64 grid of 1 cm
+(one shift of about 30 cells), against a grid 2.8 m long that never shifts:
+distance 0.5620 against 0.5623 m (0.06%), heading 0.144 against 0.149 rad;
+with 4 cells 0.02% and 0.008 rad, with 16 cells 0.26% and 0.004 rad. The rule
+it replaces (recentre when the centre of mass came within a quarter of the
+grid of a wall, which let the eel's snout reach the last cells) was measured
+at 1.6% and 0.016 rad (issue 9)."""
 
 
 class BodyOutsideGrid(SimulationError):
