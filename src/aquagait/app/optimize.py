@@ -9,8 +9,10 @@ The physics enters the optimizer through one seam, ``SwimObjective``: a
 picklable ``evaluate(params) -> float`` that swims the gait for two cycles
 and scores the run with ``aquagait.objectives``. Each process builds its
 scene once and keeps it (``_scene``), so a worker pays for the MJCF and the
-voxel geometry only on its first sample. Joint limits are checked before
-anything is simulated (``feasible``).
+voxel geometry only on its first sample; the threads of a process share it
+(a step writes only into the call's or the thread's scratch space, so a Dask
+worker with several threads gives the serial numbers). Joint limits are
+checked before anything is simulated (``feasible``).
 """
 
 from __future__ import annotations
