@@ -1,13 +1,12 @@
 """Evaluators: serial, local processes and a real Dask cluster give the same result.
 
-The Dask tests start a scheduler and two workers as separate processes bound to
-127.0.0.1 (dashboards on 127.0.0.1 too, on free ports) and stop them after
-each test, whatever happens in it.
+The Dask tests start a scheduler and workers as separate processes bound to
+127.0.0.1 on free ports, without dashboards (cluster_processes.py), and stop
+them by pid after each test, whatever happens in it.
 """
 
 import concurrent.futures as cf
 import importlib.util
-import json
 import multiprocessing
 import os
 import signal
@@ -16,10 +15,10 @@ import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
+from cluster_processes import Cluster
 from optimize_cases import DiesOnce, Slow, Sphere, sphere_problem, within
 
 from aquagait.optimize import (
@@ -32,7 +31,6 @@ from aquagait.optimize import (
 )
 from aquagait.optimize.executors import available_cores
 
-HERE = Path(__file__).resolve().parent
 needs_dask = pytest.mark.skipif(
     importlib.util.find_spec("distributed") is None,
     reason="Dask's distributed is not installed (pip install 'aquagait[dist]')",
@@ -130,78 +128,6 @@ def test_dask_at_an_address_where_nothing_listens_is_a_clear_error():
         port = probe.getsockname()[1]
     with pytest.raises(ConnectionError, match="could not reach a Dask scheduler"):
         dask_executor(f"tcp://127.0.0.1:{port}", timeout=1)
-
-
-class Cluster:
-    """A Dask scheduler and workers, each a process started here, on 127.0.0.1."""
-
-    def __init__(self, directory: Path):
-        self.directory = directory
-        self.env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(HERE), *sys.path])}
-        self.processes: list[subprocess.Popen] = []
-        self.workers: list[subprocess.Popen] = []
-        self.address = ""
-
-    def _start(self, module: str, *arguments: str) -> subprocess.Popen:
-        log = (self.directory / f"{module.rsplit('.', 1)[-1]}-{len(self.processes)}.log").open("w")
-        process = subprocess.Popen(
-            [sys.executable, "-m", module, *arguments],
-            cwd=self.directory,
-            env=self.env,
-            stdin=subprocess.DEVNULL,
-            stdout=log,
-            stderr=subprocess.STDOUT,
-        )
-        log.close()  # the child keeps its own descriptor
-        self.processes.append(process)
-        return process
-
-    def start(self, workers: int = 2) -> None:
-        scheduler_file = self.directory / "scheduler.json"
-        local = ("--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0", "--no-dashboard")
-        scheduler = self._start(
-            "distributed.cli.dask_scheduler",
-            *local,
-            *("--port", "0", "--scheduler-file", str(scheduler_file), "--no-jupyter"),
-        )
-        deadline = time.monotonic() + 30
-        while not self.address:
-            if scheduler.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError(f"the Dask scheduler did not start: {self.logs()}")
-            try:
-                self.address = json.loads(scheduler_file.read_text())["address"]
-            except (FileNotFoundError, json.JSONDecodeError, KeyError):
-                time.sleep(0.05)
-        for _ in range(workers):
-            self.workers.append(
-                self._start(
-                    "distributed.cli.dask_worker",
-                    self.address,
-                    *local,
-                    *("--nthreads", "1", "--no-nanny", "--local-directory", str(self.directory)),
-                )
-            )
-
-    def logs(self) -> str:
-        return "\n".join(path.read_text() for path in sorted(self.directory.glob("*.log")))
-
-    def stop(self) -> None:
-        """Workers first, then the scheduler (stopping both at once can hang a worker)."""
-        _stop([p for p in self.processes if p in self.workers])
-        _stop([p for p in self.processes if p not in self.workers])
-
-
-def _stop(processes: list[subprocess.Popen]) -> None:
-    """SIGTERM, then SIGKILL whatever is still running after 5 s."""
-    for process in processes:
-        if process.poll() is None:
-            process.terminate()
-    for process in processes:
-        try:
-            process.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=5)
 
 
 @pytest.fixture
