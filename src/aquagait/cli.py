@@ -79,17 +79,25 @@ def _cmd_optimize(args) -> int:
 
 
 def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, seconds=None):
-    """Optimize, write gait.json and convergence.png, then swim the best gait."""
+    """Optimize, write gait.json and convergence.png, then swim the best gait.
+
+    Exit status 2 for a mistake in the flags or files; 1, with one line that
+    says how to resume, when the executor is lost (a Dask scheduler died, no
+    worker for a minute): the checkpoint keeps the last complete generation.
+    """
     from aquagait.app import run_optimization, write_optimization
     from aquagait.app.optimize import best_swim
+    from aquagait.optimize import ExecutorLost
 
     try:
         with _executor(args) as executor:
-            workers = getattr(executor, "workers", 1)
+            workers = executor.describe() if executor else "1 worker (this process)"
             name, size, popsize = setup.creature.name, setup.problem.size, setup.settings.popsize
             print(f"optimizing {name}: {size} parameters, population {popsize}, "
-                  f"{workers} worker(s)", file=sys.stderr)  # fmt: skip
+                  f"{workers}", file=sys.stderr)  # fmt: skip
             result = run_optimization(setup, out, executor, args.resume, GenerationLine())
+    except ExecutorLost as err:
+        return _fail("optimize", err, status=1)
     except (FileExistsError, FileNotFoundError, ValueError, ImportError, OSError) as err:
         return _fail("optimize", err, status=2)
     write_optimization(setup, result, out, plot=video)
@@ -168,7 +176,14 @@ def _fluid_bar():
 
 
 class GenerationLine:
-    """``progress(report)`` of an optimization: one line per generation on stderr."""
+    """``progress(report)`` of an optimization: one line per generation on stderr.
+
+    The line counts the samples penalized in the generation (failed: the
+    simulation raised or gave nan; lost: the worker died; infeasible: outside
+    the joint limits). A generation that loses more than an eighth of its
+    population (``GenerationReport.lossy``) adds a warning line with the first
+    reason; every reason is in the run's failures.csv.
+    """
 
     def __init__(self, stream=None):
         self.stream = stream or sys.stderr
@@ -177,11 +192,19 @@ class GenerationLine:
         left = f"{report.remaining:.0f} s left" if math.isfinite(report.remaining) else ""
         print(
             f"generation {report.generation:>3}/{report.planned}  best {report.best:.4g}  "
-            f"mean {report.mean:.4g}  sigma {report.sigma:.3g}  "
-            f"{report.elapsed:.0f} s  {left}",
+            f"mean {report.mean:.4g}  sigma {report.sigma:.3g}  failed {report.failed}  "
+            f"lost {report.lost}  infeasible {report.infeasible}  {report.elapsed:.0f} s  {left}",
             file=self.stream,
             flush=True,
         )
+        if report.lossy:
+            print(
+                f"warning: generation {report.generation} lost {report.failures} of "
+                f"{report.samples} samples ({report.failed} failed, {report.lost} lost); "
+                f"first: {' '.join(report.reasons[0].split())} (all reasons: failures.csv)",
+                file=self.stream,
+                flush=True,
+            )
 
 
 class ProgressBar:

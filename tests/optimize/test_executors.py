@@ -188,3 +188,49 @@ def test_workers_import_the_package_without_pycma():
     # Workers unpickle `evaluate_sample` from aquagait.optimize; pycma costs them 1 s each.
     code = "import sys, aquagait.optimize; assert 'cma' not in sys.modules, 'pycma imported'"
     subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
+
+
+@pytest.fixture
+def two_thread_worker(tmp_path):
+    """One Dask worker process with two threads: it runs two evaluations at once."""
+    cluster = Cluster(tmp_path)
+    try:
+        cluster.start(workers=1, nthreads=2)
+        yield cluster
+    finally:
+        cluster.stop()
+
+
+@needs_dask
+def test_dask_workers_are_counted_in_threads(two_thread_worker):
+    address = two_thread_worker.address
+    with dask_executor(address) as executor:
+        executor.client.wait_for_workers(1, timeout=30)
+        assert executor.workers == 2
+        assert executor.describe() == f"2 worker threads on 1 Dask worker at {address}"
+        two_thread_worker.add_worker(nthreads=1)
+        executor.client.wait_for_workers(2, timeout=30)
+        assert executor.workers == 3
+        assert executor.describe() == f"3 worker threads on 2 Dask workers at {address}"
+
+
+@needs_dask
+def test_a_two_thread_dask_worker_gives_the_serial_eel_optimization(two_thread_worker):
+    """The issue's check: the swim objective shares nothing between a worker's threads.
+
+    A 0.3 s swim per sample on the smallest grid that holds the eel with its
+    clearance; 8 samples, two at a time in one worker process.
+    """
+    from aquagait.app.optimize import prepare_optimization
+
+    setup = prepare_optimization(
+        "eel2d", generations=2, popsize=4, seed=3, resolution=(40, 28), cell_size=0.032,
+        cycles=0.3,
+    )  # fmt: skip
+    serial = optimize(setup.problem, setup.settings)
+    with dask_executor(two_thread_worker.address) as executor:
+        executor.client.wait_for_workers(1, timeout=30)
+        assert executor.workers == 2
+        threaded = optimize(setup.problem, setup.settings, executor)
+    assert [row["penalized"] for row in threaded.history] == [[], []]
+    same_run(serial, threaded)

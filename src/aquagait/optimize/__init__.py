@@ -5,7 +5,9 @@ The optimizer knows nothing of physics (DESIGN.md §3): it minimizes
 are evaluated, optimizing groups of parameters in turn, evaluating a
 generation serially, in local processes or on a Dask cluster (same seed, same
 result), and checkpointing every generation so that a killed run resumes to
-exactly the result it would have reached.
+exactly the result it would have reached. A lost executor (its Dask scheduler
+died, no worker for too long) stops the run with `ExecutorLost`, the
+interrupted generation unsaved, to be resumed on any executor.
 
     problem = Problem(objective, x0, lower, upper, feasible=within_joint_limits)
     with local_executor() as executor:
@@ -13,9 +15,9 @@ exactly the result it would have reached.
 """
 
 from aquagait.optimize import checkpoint
-from aquagait.optimize.checkpoint import CHECKPOINT, LOG
+from aquagait.optimize.checkpoint import CHECKPOINT, FAILURES, LOG
 from aquagait.optimize.cmaes import optimize
-from aquagait.optimize.evaluate import Outcome, evaluate
+from aquagait.optimize.evaluate import ExecutorLost, Outcome, evaluate
 from aquagait.optimize.executors import (
     DaskExecutor,
     ProcessExecutor,
@@ -26,8 +28,10 @@ from aquagait.optimize.problem import GenerationReport, Problem, Result, Setting
 
 __all__ = [
     "CHECKPOINT",
+    "FAILURES",
     "LOG",
     "DaskExecutor",
+    "ExecutorLost",
     "GenerationReport",
     "Outcome",
     "ProcessExecutor",

@@ -1,11 +1,14 @@
-"""Checkpoints and the per-generation log of an optimization run directory.
+"""Checkpoints and the logs (per generation, per penalized sample) of an optimization run.
 
 After every generation the run writes `checkpoint.pkl` (the CMA-ES state with
-the random generator it draws from, the best so far, the history) and
-`optimization.csv`. Each is written to a temporary file in the same directory,
-flushed to disk and renamed over the old one (`os.replace` is atomic), so a
-process killed at any moment, SIGKILL included, leaves the last complete
-checkpoint behind, never a torn one.
+the random generator it draws from, the best so far, the history),
+`optimization.csv` (one row per generation: progress, and how many samples
+failed, were lost or were infeasible) and `failures.csv` (one row per sample
+that got the penalty: generation, group, sample index, status, the reason in
+full, and its parameters; just the header while there is none). Each is
+written to a temporary file in the same directory, flushed to disk and renamed
+over the old one (`os.replace` is atomic), so a process killed at any moment,
+SIGKILL included, leaves the last complete checkpoint behind, never a torn one.
 
 The checkpoint is a pickle: load only run directories you wrote yourself.
 """
@@ -26,6 +29,7 @@ from aquagait.optimize.problem import Problem, Settings
 
 CHECKPOINT = "checkpoint.pkl"
 LOG = "optimization.csv"
+FAILURES = "failures.csv"
 FORMAT = 1  # bump when the checkpoint's layout changes
 
 LOG_COLUMNS = (
@@ -40,7 +44,10 @@ LOG_COLUMNS = (
     "failures",
     "infeasible",
     "resamples",
+    "failed",
+    "lost",
 )
+FAILURE_COLUMNS = ("generation", "group", "sample", "status", "reason")
 
 
 def fingerprint(problem: Problem, settings: Settings) -> dict:
@@ -98,16 +105,28 @@ def write_log(run_dir: Path, history: list[dict], names: tuple[str, ...]) -> Non
     text = io.StringIO()
     writer = csv.writer(text, lineterminator="\n")
     writer.writerow([*LOG_COLUMNS, *names])
-    for row in history:
+    for row in history:  # rows of checkpoints written before a column existed leave it empty
         writer.writerow(
-            [_cell(row[key]) for key in LOG_COLUMNS] + [_cell(v) for v in row["best_x"]]
+            [_cell(row.get(key, "")) for key in LOG_COLUMNS] + [_cell(v) for v in row["best_x"]]
         )
     _write_atomically(Path(run_dir) / LOG, text.getvalue().encode())
 
 
+def write_failures(run_dir: Path, history: list[dict], names: tuple[str, ...]) -> None:
+    """Write run_dir/failures.csv: one row per penalized sample, with its reason and x."""
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow([*FAILURE_COLUMNS, *names])
+    for row in history:
+        for sample in row.get("penalized", ()):
+            cells = [row["generation"], row["group"], sample["sample"], sample["status"]]
+            writer.writerow([*cells, sample["reason"], *(_cell(v) for v in sample["x"])])
+    _write_atomically(Path(run_dir) / FAILURES, text.getvalue().encode())
+
+
 def remove_leftovers(run_dir: Path) -> None:
     """Delete temporary files a killed run left half written (never read)."""
-    for name in (CHECKPOINT, LOG):
+    for name in (CHECKPOINT, LOG, FAILURES):
         for leftover in Path(run_dir).glob(f".{name}.*"):
             leftover.unlink(missing_ok=True)
 

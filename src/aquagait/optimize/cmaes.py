@@ -16,6 +16,12 @@ draws exactly the samples the uninterrupted run drew in generation k + 1. A
 generation cut off half way is redone from its start: its samples are drawn
 again from the saved generator, so they are the same ones. Nothing depends on
 the order in which workers finish.
+
+A lost executor (`ExecutorLost`: the Dask scheduler died, no worker came for
+too long) stops the run inside a generation. That generation is never told to
+pycma nor saved, so no sample carries a penalty it did not earn, and the
+checkpoint keeps the last complete generation: a resume, on any executor,
+redraws the same samples and ends where the uninterrupted run ends.
 """
 
 from __future__ import annotations
@@ -31,7 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from aquagait.optimize import checkpoint
-from aquagait.optimize.evaluate import OK, evaluate
+from aquagait.optimize.evaluate import FAILED, LOST, OK, ExecutorLost, evaluate
 from aquagait.optimize.executors import check_picklable
 from aquagait.optimize.problem import GenerationReport, Problem, Result, Settings
 
@@ -39,6 +45,9 @@ if TYPE_CHECKING:
     import cma
 
 log = logging.getLogger(__name__)
+
+INFEASIBLE = "infeasible"
+"""The status of a sample penalized without evaluation (beside evaluate's "failed", "lost")."""
 
 
 class GaussianDraws:
@@ -87,8 +96,8 @@ def optimize(
         executor: None evaluates serially here; else a `concurrent.futures`
             executor (`local_executor()`, `dask_executor(address)`, a
             `ProcessPoolExecutor`, a Dask `Client`). Same seed, same result.
-        run_dir: where to write `checkpoint.pkl` and `optimization.csv` after
-            every generation; None writes nothing.
+        run_dir: where to write `checkpoint.pkl`, `optimization.csv` and
+            `failures.csv` after every generation; None writes nothing.
         resume: continue the run whose checkpoint is in `run_dir`. Refused
             (ValueError) if its problem or settings differ from these. A
             finished run returns its result at once.
@@ -100,6 +109,9 @@ def optimize(
     Raises:
         FileExistsError: `run_dir` holds a checkpoint and `resume` is False.
         FileNotFoundError: `resume` and `run_dir` holds no checkpoint.
+        ExecutorLost: the executor is gone (a Dask scheduler died, no worker for
+            too long); the checkpoint holds the last complete generation, and
+            the message says how to resume.
     """
     settings = Settings() if settings is None else settings
     if not isinstance(problem, Problem) or not isinstance(settings, Settings):
@@ -116,12 +128,18 @@ def optimize(
         if reason:
             _end_group(run, reason, len(phases))
             continue
-        _generation(problem, settings, phases[run.group], run, executor)
+        try:
+            _generation(problem, settings, phases[run.group], run, executor)
+        except ExecutorLost as lost:  # nothing of this generation is kept
+            lost.generation = len(run.history) + 1
+            lost.run_dir = run_dir
+            lost.saved = None if run_dir is None else len(run.history)
+            raise
         run.elapsed = run.history[-1]["elapsed"] = clock.elapsed()
         if run_dir is not None:
             _save(Path(run_dir), problem, settings, run)
         if progress is not None:
-            progress(_report(run, planned, clock))
+            progress(_report(run, planned, settings.popsize, clock))
     if run_dir is not None:
         _save(Path(run_dir), problem, settings, run)
     return Result(
@@ -223,33 +241,40 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
     samples = run.es.ask()
     infeasible, resamples = _reject_infeasible(run.es, samples, full, problem.feasible, settings)
     todo = [i for i in range(len(samples)) if i not in infeasible]
-    xs = [full(samples[i]) for i in todo]
-    outcomes = evaluate(problem.objective, xs, executor, settings.retries, settings.penalty)
+    outcomes = evaluate(
+        problem.objective, [full(samples[i]) for i in todo], executor, settings.retries,
+        settings.penalty,
+    )  # fmt: skip
     values = np.full(len(samples), float(settings.penalty))
-    succeeded = []
-    generation = len(run.history) + 1
+    reason = f"infeasible after max_resamples = {settings.max_resamples} redraws"
+    penalized = {i: (INFEASIBLE, reason) for i in infeasible}
     for i, outcome in zip(todo, outcomes, strict=True):
         values[i] = outcome.value
-        if outcome.status == OK:
-            succeeded.append(i)
-        else:
-            why = f"{outcome.status} ({outcome.message})"
+        if outcome.status != OK:
+            penalized[i] = (outcome.status, outcome.message)
             log.warning(
-                "generation %d, sample %d %s: penalty %g", generation, i, why, settings.penalty
-            )
+                "generation %d, sample %d %s (%s): penalty %g",
+                len(run.history) + 1, i, outcome.status, outcome.message, settings.penalty,
+            )  # fmt: skip
     run.es.tell(samples, values.tolist())
     run.evaluations += len(todo)
     run.group_generations += 1
+    succeeded = [i for i in todo if i not in penalized]
     if succeeded:
         best = min(succeeded, key=lambda i: values[i])  # the first of equals: order-independent
         if values[best] < run.best_f:
             run.best_f, run.best_x = float(values[best]), full(samples[best])
-    counts = {"failures": len(todo) - len(succeeded), "infeasible": len(infeasible)}
-    run.history.append(_record(run, values[succeeded], resamples=resamples, **counts))
+    penalties = [
+        {"sample": i, "status": status, "reason": why, "x": full(samples[i]).tolist()}
+        for i, (status, why) in sorted(penalized.items())
+    ]
+    run.history.append(_record(run, values[succeeded], penalties, resamples))
 
 
-def _record(run: _Run, succeeded: np.ndarray, **counts: int) -> dict:
+def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: int) -> dict:
     """One row of the history: the run after a generation whose good values are `succeeded`."""
+    statuses = [p["status"] for p in penalized]
+    failed, lost, infeasible = (statuses.count(s) for s in (FAILED, LOST, INFEASIBLE))
     return {
         "generation": len(run.history) + 1,
         "group": run.group,
@@ -258,11 +283,14 @@ def _record(run: _Run, succeeded: np.ndarray, **counts: int) -> dict:
         "mean": float(np.mean(succeeded)) if succeeded.size else math.nan,
         "generation_best": float(np.min(succeeded)) if succeeded.size else math.nan,
         "sigma": float(run.es.sigma),
-        "failures": counts["failures"],
-        "infeasible": counts["infeasible"],
-        "resamples": counts["resamples"],
+        "failures": failed + lost,
+        "failed": failed,
+        "lost": lost,
+        "infeasible": infeasible,
+        "resamples": resamples,
         "elapsed": run.elapsed,
         "best_x": run.best_x.tolist(),
+        "penalized": penalized,
     }
 
 
@@ -284,10 +312,11 @@ def _reject_infeasible(es, samples, full, feasible, settings: Settings) -> tuple
 
 
 def _save(run_dir: Path, problem: Problem, settings: Settings, run: _Run) -> None:
-    """Checkpoint first, then the log: the log never runs ahead of the checkpoint."""
+    """Checkpoint first, then the logs: they never run ahead of the checkpoint."""
     state = {"fingerprint": checkpoint.fingerprint(problem, settings), "run": vars(run)}
     checkpoint.save(run_dir, state)
     checkpoint.write_log(run_dir, run.history, problem.names)
+    checkpoint.write_failures(run_dir, run.history, problem.names)
 
 
 class _Clock:
@@ -306,8 +335,13 @@ class _Clock:
         return (self.elapsed() - self.before) / done if done else math.nan
 
 
-def _report(run: _Run, planned: int, clock: _Clock) -> GenerationReport:
+def _report(run: _Run, planned: int, popsize: int, clock: _Clock) -> GenerationReport:
     row = run.history[-1]
+    reasons = tuple(
+        f"sample {p['sample']} {p['status']}: {p['reason']}"
+        for p in row["penalized"]
+        if p["status"] != INFEASIBLE
+    )
     return GenerationReport(
         generation=row["generation"],
         planned=planned,
@@ -319,4 +353,9 @@ def _report(run: _Run, planned: int, clock: _Clock) -> GenerationReport:
         failures=row["failures"],
         elapsed=run.elapsed,
         remaining=clock.per_generation() * max(planned - row["generation"], 0),
+        samples=popsize,
+        failed=row["failed"],
+        lost=row["lost"],
+        infeasible=row["infeasible"],
+        reasons=reasons,
     )

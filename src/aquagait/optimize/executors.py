@@ -17,11 +17,14 @@ parent process runs CMA-ES.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import logging
+import math
 import multiprocessing
 import os
 import pickle
 import threading
+import time
 from concurrent.futures.process import BrokenProcessPool
 
 log = logging.getLogger(__name__)
@@ -50,6 +53,15 @@ class ProcessExecutor(cf.Executor):
     pending futures raise `BrokenProcessPool` and so does every later submit.
     This one starts a fresh pool on the next submit instead, so `optimize`
     can resubmit the lost samples (`Settings.retries`) and the run goes on.
+    Only a fresh pool that cannot take work either (its workers cannot start)
+    makes a submit raise, which `evaluate` reports as `ExecutorLost`.
+
+    A pool's death fails every task it held, not only the one whose worker
+    died, so each of them spends a retry; a sample lost `retries + 1` times
+    gets the penalty. That stays a per-sample penalty rather than
+    `ExecutorLost`: a sample that kills its worker every time (a crash in
+    native code) would kill it on any executor, and stopping would only make
+    every resume stop at it again.
 
     Args:
         workers: worker processes; None: every core this process may use.
@@ -65,6 +77,10 @@ class ProcessExecutor(cf.Executor):
         self._lock = threading.Lock()
         self._closed = False
         self._pool = self._new_pool()
+
+    def describe(self) -> str:
+        """The evaluators in words, e.g. "2 worker processes"."""
+        return f"{self.workers} worker process{'es' * (self.workers != 1)}"
 
     def _new_pool(self) -> cf.ProcessPoolExecutor:
         return cf.ProcessPoolExecutor(self.workers, mp_context=self._context)
@@ -94,6 +110,13 @@ def local_executor(workers: int | None = None) -> ProcessExecutor:
     return ProcessExecutor(workers)
 
 
+WORKER_WAIT = 60.0
+"""Seconds a Dask executor may have no worker thread before it counts as lost."""
+
+LOOK = 1.0
+"""Seconds between a Dask executor's questions to its scheduler about its workers."""
+
+
 class DaskExecutor(cf.Executor):
     """A Dask `Client`'s executor plus the client, closed together by `shutdown`.
 
@@ -102,37 +125,123 @@ class DaskExecutor(cf.Executor):
     whose worker died on another worker (up to `distributed.scheduler.
     allowed-failures` times, then `KilledWorker`, which `optimize` retries).
 
+    The executor is lost (`lost()`, which `evaluate` asks while it waits) when
+    its client loses the scheduler (the client cancels every task then, and its
+    reconnection would hang every later submit), or when the scheduler has had
+    no worker thread for `worker_wait` seconds (tasks would wait for ever).
+
+    Args:
+        client: a connected `distributed.Client`.
+        worker_wait: seconds without any worker thread before the executor is
+            lost [s]; positive.
+
     Attributes:
         client: the `distributed.Client`, e.g. for `client.scheduler_info()`.
+        address: the scheduler's address.
     """
 
-    def __init__(self, client):
-        self.client = client
+    def __init__(self, client, worker_wait: float = WORKER_WAIT):
+        if not worker_wait > 0:
+            raise ValueError(f"worker_wait must be a positive number of seconds: {worker_wait!r}")
+        self.client, self.worker_wait = client, float(worker_wait)
+        self.address = getattr(client.scheduler, "address", "?")
         self._executor = client.get_executor(pure=False)
+        self._looked_at = -math.inf  # time.monotonic() of the last look at the workers
+        self._without_workers_since: float | None = None
+        self._lost = ""  # lost()'s last answer
+
+    def _threads(self) -> dict[str, int]:
+        """Threads of each worker connected to the scheduler now ({} if it does not answer)."""
+        if self.client.status != "running":
+            return {}
+        try:
+            return self.client.nthreads(callback_timeout=10 * LOOK)
+        except (OSError, TimeoutError):
+            return {}
 
     @property
     def workers(self) -> int:
-        """Workers connected to the scheduler now."""
-        return len(self.client.scheduler_info().get("workers", {}))
+        """Worker threads connected now, over all Dask workers: samples run at once."""
+        return sum(self._threads().values())
+
+    def describe(self) -> str:
+        """The evaluators in words, e.g. "3 worker threads on 2 Dask workers"."""
+        threads = self._threads()
+        total = sum(threads.values())
+        return (
+            f"{total} worker thread{'s' * (total != 1)} on {len(threads)} "
+            f"Dask worker{'s' * (len(threads) != 1)} at {self.address}"
+        )
+
+    def lost(self) -> str:
+        """Why this executor can evaluate nothing more, or "" while it can.
+
+        Lost: the client has lost its scheduler, or the scheduler has had no
+        worker for `worker_wait` s. The scheduler is asked about its workers at
+        most once per `LOOK` s.
+        """
+        if self.client.status != "running":
+            return f"lost the Dask scheduler at {self.address} (its client is {self.client.status})"
+        now = time.monotonic()
+        if now - self._looked_at < LOOK:
+            return ""
+        self._looked_at = now
+        if sum(self._threads().values()):
+            self._without_workers_since = None
+            return ""
+        if self._without_workers_since is None:
+            self._without_workers_since = now
+        if now - self._without_workers_since < self.worker_wait:
+            return ""
+        self._lost = (
+            f"the Dask scheduler at {self.address} has had no worker for "
+            f"{self.worker_wait:g} s (DaskExecutor.worker_wait)"
+        )
+        return self._lost
 
     def submit(self, fn, /, *args, **kwargs) -> cf.Future:
         """Run `fn(*args, **kwargs)` on a Dask worker."""
         return self._executor.submit(fn, *args, **kwargs)
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
-        """Finish (or cancel) this executor's tasks and close the client; the cluster stays."""
+        """Finish (or cancel) this executor's tasks and close the client; the cluster stays.
+
+        A lost executor never waits: with the scheduler gone only the client is
+        closed, at once (waiting for or cancelling its tasks would ask a scheduler
+        that is not there); with no worker left its tasks are cancelled.
+        """
+        if self.client.status != "running":
+            with _quiet("distributed.client"):  # its cancelled reconnection logs a traceback
+                self.client.close(timeout=10)
+            return
         try:
-            self._executor.shutdown(wait=wait and not cancel_futures)
+            self._executor.shutdown(wait=wait and not cancel_futures and not self._lost)
         finally:
             self.client.close()
 
 
-def dask_executor(address: str, timeout: float = 30.0) -> DaskExecutor:
+@contextlib.contextmanager
+def _quiet(logger: str):
+    """Silence a logger below CRITICAL inside the block."""
+    logger = logging.getLogger(logger)
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+
+
+def dask_executor(
+    address: str, timeout: float = 30.0, worker_wait: float = WORKER_WAIT
+) -> DaskExecutor:
     """Connect to a running Dask scheduler, e.g. "tcp://127.0.0.1:8786" (extra `dist`).
 
     Args:
         address: the scheduler's address, as `dask scheduler` prints it.
         timeout: seconds to wait for the connection.
+        worker_wait: seconds the scheduler may have no worker before the run
+            stops with `ExecutorLost` (see `DaskExecutor`).
 
     Returns:
         A `DaskExecutor`; `shutdown()` (or leaving a `with` block) closes the
@@ -152,7 +261,7 @@ def dask_executor(address: str, timeout: float = 30.0) -> DaskExecutor:
             "Start one with `dask scheduler --host 127.0.0.1` and workers with "
             "`dask worker tcp://HOST:PORT`, then pass the scheduler's tcp://HOST:PORT."
         ) from error
-    return DaskExecutor(client)
+    return DaskExecutor(client, worker_wait)
 
 
 def check_picklable(objective, executor) -> None:

@@ -184,6 +184,11 @@ class Settings:
         }
 
 
+LOSS_WARNING = 1 / 8
+"""A generation whose failed and lost samples are more than this share of its
+population is worth a warning (`GenerationReport.lossy`)."""
+
+
 @dataclass(frozen=True)
 class GenerationReport:
     """Progress after one generation, handed to `optimize(progress=...)`.
@@ -196,9 +201,15 @@ class GenerationReport:
         mean: mean of this generation's successful values (nan if none).
         sigma: CMA-ES step size after this generation.
         evaluations: samples evaluated so far (infeasible ones are not).
-        failures: samples of this generation that got the penalty.
+        failures: samples of this generation evaluated without a value, `failed + lost`.
         elapsed: seconds spent so far, over every session of a resumed run.
         remaining: estimated seconds left if the run takes all `planned` generations.
+        samples: the generation's population.
+        failed: samples whose objective raised or returned nan/inf (penalty).
+        lost: samples whose worker died `retries + 1` times (penalty).
+        infeasible: samples still infeasible after the redraws (penalty, not evaluated).
+        reasons: why each failed or lost sample got its penalty, in sample order,
+            e.g. "sample 3 failed: FloatingPointError: simulation diverged".
     """
 
     generation: int
@@ -211,6 +222,16 @@ class GenerationReport:
     failures: int
     elapsed: float
     remaining: float
+    samples: int = 0
+    failed: int = 0
+    lost: int = 0
+    infeasible: int = 0
+    reasons: tuple[str, ...] = ()
+
+    @property
+    def lossy(self) -> bool:
+        """More than `LOSS_WARNING` of the population failed or was lost."""
+        return self.failed + self.lost > LOSS_WARNING * self.samples
 
 
 @dataclass(frozen=True, eq=False)
@@ -221,9 +242,13 @@ class Result:
         best_x: (n,) the best parameters evaluated (x0 if no sample succeeded).
         best_f: its objective value (inf if no sample succeeded).
         history: one dict per generation with keys generation, group,
-            evaluations, best, mean, generation_best, sigma, failures,
-            infeasible, resamples, elapsed and best_x (a list). Every entry but
-            `elapsed` is a deterministic function of the problem and settings.
+            evaluations, best, mean, generation_best, sigma, failures (failed
+            + lost), failed, lost, infeasible, resamples, elapsed, best_x (a
+            list) and penalized: one dict per sample that got the penalty,
+            with its index ("sample"), "status" ("failed", "lost" or
+            "infeasible"), "reason" and "x" (a list). Every entry but `elapsed`
+            is a deterministic function of the problem and settings, unless a
+            worker died (lost samples, and the messages of lost tasks).
         evaluations: samples evaluated (each counted once, retries included).
         stopped: why the search ended, per group ("generations (100)",
             "tolfun=1e-11", ...).
