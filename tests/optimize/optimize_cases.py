@@ -7,6 +7,7 @@ Run as a script, it is the optimization that test_checkpoint.py kills with SIGKI
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import os
 import sys
@@ -14,8 +15,25 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from aquagait.optimize import Problem, Settings, optimize
+
+needs_dask = pytest.mark.skipif(
+    importlib.util.find_spec("distributed") is None,
+    reason="Dask's distributed is not installed (pip install 'aquagait[dist]')",
+)
+
+
+def same_run(a, b):
+    """Two optimization Results are the same run, to the bit, apart from the clock."""
+
+    def without_time(history):
+        return [{k: v for k, v in row.items() if k != "elapsed"} for row in history]
+
+    np.testing.assert_equal(without_time(a.history), without_time(b.history))  # nan == nan
+    assert np.array_equal(a.best_x, b.best_x) and a.best_f == b.best_f
+    assert a.evaluations == b.evaluations and a.stopped == b.stopped
 
 
 class Sphere:

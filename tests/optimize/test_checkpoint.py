@@ -16,6 +16,7 @@ from optimize_cases import (
     Recorder,
     Sphere,
     killed_problem,
+    same_run,
     sphere_problem,
     within,
 )
@@ -23,15 +24,6 @@ from optimize_cases import (
 from aquagait.optimize import CHECKPOINT, LOG, Settings, checkpoint, optimize
 
 HERE = Path(__file__).resolve().parent
-
-
-def same_run(a, b):
-    def without_time(history):
-        return [{k: v for k, v in row.items() if k != "elapsed"} for row in history]
-
-    np.testing.assert_equal(without_time(a.history), without_time(b.history))  # nan == nan
-    assert np.array_equal(a.best_x, b.best_x) and a.best_f == b.best_f
-    assert a.evaluations == b.evaluations and a.stopped == b.stopped
 
 
 def log_without_time(run_dir: Path) -> list[dict]:

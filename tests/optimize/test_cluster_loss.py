@@ -11,7 +11,6 @@ kill one of them while a worker is inside a call of generation 2.
 from __future__ import annotations
 
 import concurrent.futures as cf
-import importlib.util
 import os
 import signal
 import subprocess
@@ -23,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from cluster_processes import Cluster
-from optimize_cases import Slow, Sphere, sphere_problem, within
+from optimize_cases import Slow, Sphere, needs_dask, same_run, sphere_problem, within
 
 from aquagait.optimize import (
     ExecutorLost,
@@ -34,22 +33,8 @@ from aquagait.optimize import (
     optimize,
 )
 
-needs_dask = pytest.mark.skipif(
-    importlib.util.find_spec("distributed") is None,
-    reason="Dask's distributed is not installed (pip install 'aquagait[dist]')",
-)
-
 PROBLEM = sphere_problem(4, feasible=within)
 SETTINGS = Settings(popsize=8, generations=5, seed=5)
-
-
-def same_run(a, b):
-    def without_time(history):
-        return [{k: v for k, v in row.items() if k != "elapsed"} for row in history]
-
-    np.testing.assert_equal(without_time(a.history), without_time(b.history))  # nan == nan
-    assert np.array_equal(a.best_x, b.best_x) and a.best_f == b.best_f
-    assert a.evaluations == b.evaluations and a.stopped == b.stopped
 
 
 def saved_run(run_dir: Path) -> dict:

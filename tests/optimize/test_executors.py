@@ -6,7 +6,6 @@ them by pid after each test, whatever happens in it.
 """
 
 import concurrent.futures as cf
-import importlib.util
 import multiprocessing
 import os
 import signal
@@ -19,7 +18,7 @@ import time
 import numpy as np
 import pytest
 from cluster_processes import Cluster
-from optimize_cases import DiesOnce, Slow, Sphere, sphere_problem, within
+from optimize_cases import DiesOnce, Slow, Sphere, needs_dask, same_run, sphere_problem, within
 
 from aquagait.optimize import (
     ProcessExecutor,
@@ -30,21 +29,6 @@ from aquagait.optimize import (
     optimize,
 )
 from aquagait.optimize.executors import available_cores
-
-needs_dask = pytest.mark.skipif(
-    importlib.util.find_spec("distributed") is None,
-    reason="Dask's distributed is not installed (pip install 'aquagait[dist]')",
-)
-
-
-def same_run(a, b):
-    def without_time(history):
-        return [{k: v for k, v in row.items() if k != "elapsed"} for row in history]
-
-    assert without_time(a.history) == without_time(b.history)
-    assert np.array_equal(a.best_x, b.best_x) and a.best_f == b.best_f
-    assert a.evaluations == b.evaluations and a.stopped == b.stopped
-
 
 PROBLEM = sphere_problem(4, feasible=within)
 SETTINGS = Settings(popsize=8, generations=12, seed=5)
