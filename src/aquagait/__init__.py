@@ -23,7 +23,7 @@ from importlib.metadata import PackageNotFoundError, version
 from aquagait import creatures
 from aquagait.body.model import load_model
 from aquagait.grid import Grid
-from aquagait.sim import init_state, make_scene, rollout, step
+from aquagait.sim import EulerFluid, SimpleFluid, Vacuum, init_state, make_scene, rollout, step
 
 try:
     __version__ = version("aquagait")
@@ -31,7 +31,10 @@ except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0.0.0+unknown"
 
 __all__ = [
+    "EulerFluid",
     "Grid",
+    "SimpleFluid",
+    "Vacuum",
     "__version__",
     "creatures",
     "init_state",
