@@ -11,12 +11,14 @@ from aquagait.viz.compare import plot_displacement, render_side_by_side
 from aquagait.viz.convergence import plot_convergence
 from aquagait.viz.particles import particle_traces
 from aquagait.viz.swim import Look, render_swim, swim_frames
+from aquagait.viz.voxels import plot_voxels
 
 __all__ = [
     "Look",
     "particle_traces",
     "plot_convergence",
     "plot_displacement",
+    "plot_voxels",
     "render_side_by_side",
     "render_swim",
     "swim_frames",
