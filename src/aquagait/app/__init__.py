@@ -6,12 +6,22 @@
     write_swim(run, out, video=True)               # the run directory and its video
 
 ``swim``, ``optimize`` (CMA-ES and the best gait's swim), ``compare`` (the
-Euler and the simple fluid) and ``demo``. This is the one layer that joins
+Euler and the simple fluid), ``check`` (a creature's table and its voxels on
+the default grid) and ``demo``. This is the one layer that joins
 simulation, optimizer, files and pictures; the command line only maps flags
 to its arguments. A mistake in a setting raises a ``SetupError`` whose
 message says what was wrong and what would be right, before anything runs.
 """
 
+from aquagait.app.check import (
+    CheckReport,
+    CheckSetup,
+    CheckSetupError,
+    format_check,
+    prepare_check,
+    run_check,
+    write_check,
+)
 from aquagait.app.errors import SetupError, output_directory
 from aquagait.app.optimize import (
     OptimizationSetup,
@@ -33,6 +43,9 @@ from aquagait.app.swim import (
 )
 
 __all__ = [
+    "CheckReport",
+    "CheckSetup",
+    "CheckSetupError",
     "OptimizationSetup",
     "OptimizationSetupError",
     "SetupError",
@@ -40,13 +53,17 @@ __all__ = [
     "SwimRun",
     "SwimSetup",
     "SwimSetupError",
+    "format_check",
     "output_directory",
+    "prepare_check",
     "prepare_optimization",
     "prepare_swim",
+    "run_check",
     "run_optimization",
     "run_swim",
     "swim_config",
     "swim_summary",
+    "write_check",
     "write_optimization",
     "write_swim",
 ]

@@ -1,0 +1,528 @@
+"""Check a creature before swimming it: its table, and its body on the default grid (DESIGN.md §5).
+
+    setup = prepare_check("eel2d")              # or the path of an MJCF file; CheckSetupError
+    report = run_check(setup)                   # the numbers, warnings for thin links
+    print(format_check(report))                 # the table
+    write_check(report, "runs/eel2d-check")     # check.txt, check.json, voxels.png
+
+The table lists the links (mass, volume, size, thickness in mm and in cells
+of the default grid, solid cells at the reference pose), the DOFs with their
+limits and PD gains, the gait's parameters, the default grid, the energy
+bound and the loader's notes. The picture (the paper's Figure 5) shows the
+body voxelized at the reference pose on the default grid, so a user sees
+whether thin fins survive voxelization.
+
+Volume: each geom's own (closed forms for primitives, the divergence theorem
+over a mesh's triangles, the same triangles MuJoCo's mass uses), summed per
+link as MuJoCo sums masses, so ``density = mass / volume`` is the geoms'
+density (water, 1000 kg/m^3, in the library).
+
+Thin links: ``link_thickness`` (the largest inscribed ball, from the baked
+signed distance) underestimates by up to about one sample spacing ``s``
+(``h / 4``, finer where a link is under three samples thick:
+``resolving_shape``); a link measured below ``2 h - s`` is thinner than about
+two cells and gets a warning: its cell centres fall in and out of it as it
+moves, so the fluid sees it flicker in and out of the solid.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from aquagait import creatures
+from aquagait.app.errors import SetupError
+from aquagait.body.dynamics import describe, mesh_faces
+from aquagait.body.shape import BodyShape, body_shape, link_thickness
+from aquagait.body.voxelize import Voxels, voxelize
+from aquagait.control.pd import gains
+from aquagait.creatures import Creature
+from aquagait.grid import Grid
+from aquagait.io.run import read_json, write_json
+from aquagait.sim import CLEARANCE, Scene, make_scene
+from aquagait.sim.follow import room
+
+UNITS = {"amplitude": "rad", "phase": "rad", "period": "s", "offset": "rad"}
+
+THIN_CELLS = 2.0
+"""A link should be at least this many cells thick (DESIGN.md §2.8)."""
+
+FINEST_REFINE = {2: 32, 3: 8}
+"""Most signed-distance samples per cell (per axis) ``resolving_shape`` bakes, 2D and 3D."""
+
+
+class CheckSetupError(SetupError):
+    """A check cannot start: an unknown creature, or a file that is not a usable creature."""
+
+
+@dataclass(frozen=True, eq=False)
+class CheckSetup:
+    """What a check looks at: the creature, and its scene on the default grid.
+
+    Attributes:
+        creature: the resolved creature.
+        scene: ``make_scene(creature, fluid="none")``: the default grid placed
+            as every job places it (centred on the centre of mass), and the
+            links' signed distance at its cell size (``scene.shape``).
+    """
+
+    creature: Creature
+    scene: Scene
+
+    @property
+    def grid(self) -> Grid:
+        return self.scene.grid
+
+
+@dataclass(frozen=True, eq=False)
+class CheckReport:
+    """A finished check.
+
+    Attributes:
+        setup: from ``prepare_check``.
+        numbers: everything ``check.json`` holds, plain JSON values (see ``run_check``).
+        shape: the links' signed distance at the default cell size, sampled
+            finely enough to resolve thin links (``resolving_shape``): their
+            thickness and the picture's outlines come from it.
+        voxels: the body voxelized at the reference pose on the default grid.
+        link_pos: (nl, 3) link origins at the reference pose [m].
+        link_rot: (nl, 3, 3) link rotations at the reference pose.
+    """
+
+    setup: CheckSetup
+    numbers: dict
+    shape: BodyShape
+    voxels: Voxels
+    link_pos: np.ndarray
+    link_rot: np.ndarray
+
+    @property
+    def warnings(self) -> list[str]:
+        return self.numbers["warnings"]
+
+
+def prepare_check(name_or_path) -> CheckSetup:
+    """Resolve the creature (a library name, the path of an MJCF file, or a ``Creature``).
+
+    Raises:
+        CheckSetupError: an unknown name, or a file that is not a usable creature
+            (the message says what is wrong and what would be right).
+    """
+    creature = name_or_path if isinstance(name_or_path, Creature) else _resolve(name_or_path)
+    try:
+        scene = make_scene(creature, fluid="none")
+    except ValueError as err:
+        raise CheckSetupError(f"{creature.name}: {err}") from None
+    return CheckSetup(creature, scene)
+
+
+def _is_library(creature: Creature) -> bool:
+    known = creature.name in creatures.names()
+    return known and creatures.get(creature.name) is creature
+
+
+def _resolve(name_or_path) -> Creature:
+    find = getattr(creatures, "resolve", creatures.get)  # resolve: NAME or PATH (issue 11)
+    try:
+        return find(name_or_path)
+    except (KeyError, ValueError, OSError) as err:
+        raise CheckSetupError(str(err)) from None
+
+
+def run_check(setup: CheckSetup) -> CheckReport:
+    """Measure the creature: links, DOFs, gait, grid, clearance; warn about thin links.
+
+    ``numbers`` holds: ``creature``, ``description``, ``source``, ``dim``,
+    ``depth`` [m] (2D), ``mass`` [kg], ``body_length`` [m], ``links`` (per
+    link: ``name``, ``mass`` [kg], ``volume`` [m^3], ``density`` [kg/m^3],
+    ``size`` (3,) [m], ``thickness`` [m], ``thickness_cells``,
+    ``solid_cells``, ``voxel_fraction``: the volume of its solid cells over
+    its volume), ``thinnest``, ``root``, ``dofs``, ``gait``, ``grid``,
+    ``clearance``, ``energy_bound`` [J], ``pd``, ``notes`` and ``warnings``.
+    """
+    creature, grid = setup.creature, setup.grid
+    model = creature.model
+    link_pos, link_rot = setup.scene.dynamics.link_poses(model.qpos0)
+    voxels = voxelize(setup.scene.shape, grid, link_pos, link_rot)  # what the fluid sees
+    shape = resolving_shape(model, setup.scene.shape)
+    links = _links(creature, shape, voxels)
+    numbers = {
+        "creature": creature.name,
+        "description": creature.description,
+        "source": str(model.source),
+        "library": _is_library(creature),
+        "dim": model.dim,
+        "depth": model.depth,
+        "mass": float(model.mass),
+        "body_length": float(model.body_length),
+        "links": links,
+        "volume_from": "geoms",
+        "thinnest": _thinnest(links),
+        "root": _root(model),
+        "dofs": _dofs(creature),
+        "gait": _gait(creature),
+        "grid": _grid(creature, grid),
+        "clearance": _clearance(creature, grid),
+        "energy_bound": float(creature.energy_bound),
+        "pd": {
+            "natural_frequency": creature.natural_frequency,
+            "damping_ratio": creature.damping_ratio,
+        },
+        "notes": [*getattr(model, "notes", ()), *getattr(creature, "notes", ())],
+    }
+    numbers["warnings"] = _warnings(numbers, shape)
+    return CheckReport(setup, numbers, shape, voxels, link_pos, link_rot)
+
+
+# --- the numbers ------------------------------------------------------------------
+
+
+def resolving_shape(model, shape: BodyShape) -> BodyShape:
+    """``shape`` baked again, finer, when a link is under about three samples thick.
+
+    ``link_thickness`` is good to about one sample spacing, and a part
+    thinner than a spacing may hold no sample at all (no outline, thickness
+    0); so the spacing is brought to a quarter of the thinnest link's
+    thickness bound (measured + one spacing), at most ``FINEST_REFINE``
+    samples per cell. The library's creatures need no rebaking.
+    """
+    h, s = shape.cell_size, shape.spacing
+    solid = shape.dims[:, 0] > 0
+    if not solid.any():
+        return shape
+    wanted = (link_thickness(shape)[solid].min() + s) / 4
+    refine = min(math.ceil(h / wanted - 1e-9), FINEST_REFINE[shape.dim])
+    if refine * s <= h * (1 + 1e-9):
+        return shape
+    try:
+        return body_shape(model, h, refine)
+    except ValueError:  # too many samples for a large link: keep the coarser measure
+        return shape
+
+
+def _links(creature: Creature, shape: BodyShape, voxels: Voxels) -> list[dict]:
+    """Per link: mass, volume, density, box size, thickness, solid cells and what they hold."""
+    model, h = creature.model, shape.cell_size
+    volume = link_volumes(model)
+    thickness = link_thickness(shape)
+    cell_volume = h**model.dim * (model.depth or 1.0)
+    rows = []
+    for k, name in enumerate(model.links):
+        cells = int(np.count_nonzero(voxels.owner == k))
+        mass, v = float(model.link_mass[k]), float(volume[k])
+        rows.append({
+            "name": name,
+            "mass": mass,
+            "volume": v,
+            "density": mass / v if v > 0 else None,
+            "size": (shape.bounds[k, 1] - shape.bounds[k, 0]).tolist(),
+            "thickness": float(thickness[k]),
+            "thickness_accuracy": shape.spacing,
+            "thickness_cells": float(thickness[k] / h),
+            "solid_cells": cells,
+            "voxel_fraction": cells * cell_volume / v if v > 0 else None,
+        })  # fmt: skip
+    return rows
+
+
+def link_volumes(model) -> np.ndarray:
+    """Each link's volume, the sum of its geoms' volumes, (nl,) [m^3].
+
+    Overlapping geoms count twice, as in MuJoCo's mass, so ``link_mass /
+    volume`` is the geoms' density. In 2D every geom is a z-prism of the
+    model's depth, so this is the prism's volume.
+    """
+    facts, faces = describe(model.mj), mesh_faces(model.mj)
+    out = np.zeros(len(facts.link_names))
+    for g, kind in enumerate(facts.geom_kind):
+        out[facts.geom_link[g]] += _geom_volume(kind, facts.geom_size[g],
+                                                facts.geom_vertices[g], faces[g])  # fmt: skip
+    return out
+
+
+def _geom_volume(kind: str, size, vertices, faces) -> float:
+    """The volume of one MuJoCo geom [m^3]."""
+    r = size[0]
+    if kind == "mesh":  # divergence theorem; faces wind outward
+        a, b, c = (vertices[faces[:, i]] for i in range(3))
+        return abs(float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum())) / 6
+    volumes = {
+        "box": lambda: 8 * size[0] * size[1] * size[2],
+        "sphere": lambda: 4 / 3 * math.pi * r**3,
+        "ellipsoid": lambda: 4 / 3 * math.pi * size[0] * size[1] * size[2],
+        "capsule": lambda: math.pi * r**2 * (2 * size[1] + 4 / 3 * r),
+        "cylinder": lambda: math.pi * r**2 * 2 * size[1],
+    }
+    return float(volumes[kind]())
+
+
+def _thinnest(links: list[dict]) -> dict | None:
+    solid = [row for row in links if row["volume"] > 0]
+    if not solid:
+        return None
+    row = min(solid, key=lambda r: r["thickness"])
+    return {"link": row["name"], "thickness": row["thickness"], "cells": row["thickness_cells"]}
+
+
+def _root(model) -> dict:
+    root = [model.dof_names[d] for d in model.root_dofs]
+    kind = "planar: slide x, slide y, hinge z" if model.dim == 2 else "free joint"
+    return {"kind": kind, "dofs": root}
+
+
+def _dofs(creature: Creature) -> list[dict]:
+    """Per actuated DOF: joint kind, limits [rad], PD gains, what drives it."""
+    model, gait = creature.model, creature.gait
+    kp, kd = gains(model, creature.natural_frequency, creature.damping_ratio)
+    kind = {j.dof + i: j.kind for j in model.joints for i in range(j.nv)}
+    mirror = {dof: (source, sign) for dof, source, sign in gait.mirror}
+    rows = []
+    for i, d in enumerate(model.actuated_dofs):
+        name = model.dof_names[d]
+        driven = name in gait.dofs
+        if name in mirror:
+            driven = f"{mirror[name][1]:+g} x {mirror[name][0]}"
+        rows.append({
+            "name": name, "kind": kind[int(d)],
+            "lower": float(model.lower[i]), "upper": float(model.upper[i]),
+            "kp": float(kp[d]), "kd": float(kd[d]),
+            "gait": "yes" if driven is True else (driven or "no"),
+        })  # fmt: skip
+    return rows
+
+
+def _gait(creature: Creature) -> dict:
+    spec = creature.gait
+    fixed = {k: getattr(spec, k) for k in ("amplitude", "phase", "period", "offset")}
+    return {
+        "names": list(spec.names),
+        "lower": spec.lower.tolist(),
+        "upper": spec.upper.tolist(),
+        "default": creature.default_gait.tolist(),
+        "free": list(spec.free),
+        "fixed": {k: float(v) for k, v in fixed.items() if k not in spec.free},
+        "shared": list(spec.shared),
+        "mirror": [[dof, source, float(sign)] for dof, source, sign in spec.mirror],
+        "groups": [list(g) for g in spec.groups],
+    }
+
+
+def _grid(creature: Creature, grid: Grid) -> dict:
+    extent = np.asarray(grid.shape) * grid.cell_size
+    return {
+        "resolution": list(grid.shape),
+        "cell_size": float(grid.cell_size),
+        "origin": list(grid.origin),
+        "extent": extent.tolist(),
+        "extent_body_lengths": (extent / creature.model.body_length).tolist(),
+    }
+
+
+def _clearance(creature: Creature, grid: Grid) -> dict:
+    """Does the default grid hold the body with the Euler fluid's clearance? (``make_scene``)."""
+    model = creature.model
+    water = float(room(grid, model.bounds[:, : model.dim]).min())
+    try:
+        make_scene(creature, fluid="euler")
+        error = None
+    except ValueError as err:
+        error = str(err)
+    return {"cells": CLEARANCE, "room": water, "holds": error is None, "error": error}
+
+
+def _warnings(numbers: dict, shape: BodyShape) -> list[str]:
+    """A warning per link thinner than about two cells, and one if the grid is too small."""
+    h, s = shape.cell_size, shape.spacing
+    out = []
+    for k, row in enumerate(numbers["links"]):
+        if row["volume"] > 0 and row["thickness"] < THIN_CELLS * h - s:
+            out.append(_thin_warning(row, shape, k, numbers["grid"]))
+    if not numbers["clearance"]["holds"]:
+        out.append(f"the default grid is too small: {numbers['clearance']['error']}")
+    return out
+
+
+def _thin_warning(row: dict, shape: BodyShape, k: int, grid: dict) -> str:
+    h, s = shape.cell_size, shape.spacing
+    t = row["thickness"]
+    if t < s:  # below what the samples resolve: the box's thinnest side bounds it
+        sides = np.asarray(row["size"])[: shape.dim]
+        t = float(sides.min())
+        measured = f"thinner than the {_mm(s)} signed-distance spacing (its box: {_mm(t)})"
+    else:
+        measured = f"{_mm(t)} thick, {t / h:.2f} cells of {_mm(h)}"
+    finer = t / THIN_CELLS
+    cells = "x".join(str(math.ceil(n * h / finer - 1e-6)) for n in grid["resolution"])
+    return (
+        f"link {row['name']!r} is {measured}: thinner than about two cells, it will flicker in "
+        f"and out of the solid as it moves ({row['solid_cells']} solid cells at the reference "
+        f"pose); cells of {_mm(finer)} or less keep it two cells thick ({cells} cells for the "
+        "same grid extent)"
+    )
+
+
+def _mm(metres: float) -> str:
+    return f"{metres * 1000:.3g} mm"
+
+
+# --- the table and the files --------------------------------------------------------
+
+
+def format_check(report: CheckReport) -> str:
+    """The check as text for people: the tables, the notes and the warnings."""
+    n = report.numbers
+    sections = [
+        _heading(n),
+        _link_table(n),
+        _dof_table(n),
+        _gait_table(n),
+        _grid_lines(n),
+        _notes(n),
+    ]
+    return "\n\n".join(s for s in sections if s)
+
+
+def _heading(n: dict) -> str:
+    body = f"{n['dim']}D" + (f", a prism {_mm(n['depth'])} deep" if n["depth"] else "")
+    return "\n".join([
+        f"{n['creature']}: {n['description']}" if n["description"] else n["creature"],
+        f"source: {n['source']}" + (" (the library's)" if n["library"] else ""),
+        f"{body}; mass {n['mass']:.4g} kg; body length {n['body_length']:.3g} m; "
+        f"{len(n['links'])} links, {len(n['dofs'])} actuated DOF{'s' * (len(n['dofs']) != 1)}",
+    ])  # fmt: skip
+
+
+def _link_table(n: dict) -> str:
+    h = n["grid"]["cell_size"]
+    header = ("link", "mass [kg]", "volume [m^3]", "density [kg/m^3]", "size [mm]",
+              "thickness [mm]", f"[cells of {h * 1000:g} mm]", "solid cells",
+              "cells/volume")  # fmt: skip
+    rows = [header]
+    for r in n["links"]:
+        rows.append((
+            r["name"], f"{r['mass']:.4g}", f"{r['volume']:.4g}", _maybe(r["density"], ".4g"),
+            " x ".join(f"{side * 1000:.3g}" for side in r["size"]),
+            f"{r['thickness'] * 1000:.3g}", f"{r['thickness_cells']:.2f}",
+            str(r["solid_cells"]), _maybe(r["voxel_fraction"], ".0%"),
+        ))  # fmt: skip
+    lines = ["links (volume from the geoms' shapes; density = mass / volume; solid cells at "
+             "the reference pose on the default grid)", _table(rows)]  # fmt: skip
+    t = n["thinnest"]
+    if t:
+        lines.append(f"thinnest link: {t['link']}, {t['thickness'] * 1000:.3g} mm = "
+                     f"{t['cells']:.2f} cells")  # fmt: skip
+    return "\n".join(lines)
+
+
+def _dof_table(n: dict) -> str:
+    rows = [("DOF", "kind", "lower [deg]", "upper [deg]", "kp [N m/rad]", "kd [N m s/rad]",
+             "gait")]  # fmt: skip
+    for d in n["dofs"]:
+        rows.append((d["name"], d["kind"], f"{math.degrees(d['lower']):.4g}",
+                     f"{math.degrees(d['upper']):.4g}", f"{d['kp']:.4g}", f"{d['kd']:.4g}",
+                     d["gait"]))  # fmt: skip
+    root = f"root: {n['root']['kind']} ({', '.join(n['root']['dofs'])}), not servoed"
+    return "\n".join(["DOFs", root, _table(rows)])
+
+
+def _gait_table(n: dict) -> str:
+    g = n["gait"]
+    fixed = ", ".join(f"{k} {v:g} {UNITS[k]}" for k, v in g["fixed"].items()) or "none"
+    rows = [("parameter", "lower", "upper", "default")]
+    for name, lo, hi, x in zip(g["names"], g["lower"], g["upper"], g["default"], strict=True):
+        rows.append((name, f"{lo:.4g}", f"{hi:.4g}", f"{x:.4g}"))
+    mirror = ", ".join(f"{dof} = {sign:+g} x {src}" for dof, src, sign in g["mirror"])
+    groups = "; ".join(", ".join(group) for group in g["groups"])
+    return "\n".join([
+        f"gait: {len(g['names'])} parameter{'s' * (len(g['names']) != 1)} (free: "
+        f"{', '.join(g['free'])}; fixed: {fixed}); amplitude, phase, offset [rad], period [s]",
+        _table(rows),
+        f"shared: {', '.join(g['shared']) or 'none'}; mirrored: {mirror or 'none'}; "
+        f"groups optimized in turn: {groups or 'one (all DOFs)'}",
+    ])  # fmt: skip
+
+
+def _grid_lines(n: dict) -> str:
+    g, c = n["grid"], n["clearance"]
+    cells = "x".join(str(x) for x in g["resolution"])
+    metres = " x ".join(f"{x:.3g}" for x in g["extent"])
+    lengths = " x ".join(f"{x:.2g}" for x in g["extent_body_lengths"])
+    holds = (
+        f"holds the body with {c['cells']} cells of water on every side "
+        f"(nearest wall {c['room']:.1f} cells away)"
+        if c["holds"] else f"does not hold the body: {c['error']}"
+    )  # fmt: skip
+    pd = n["pd"]
+    return "\n".join([
+        f"default grid: {cells} cells of {g['cell_size'] * 1000:g} mm = {metres} m = "
+        f"{lengths} body lengths",
+        f"clearance (Euler fluid): {holds}",
+        f"energy bound: {n['energy_bound']:.4g} J of actuator work over two cycles",
+        f"PD servos: natural frequency {pd['natural_frequency']:g} rad/s, "
+        f"damping ratio {pd['damping_ratio']:g}",
+    ])  # fmt: skip
+
+
+def _notes(n: dict) -> str:
+    lines = []
+    if n["notes"]:
+        lines += ["notes:", *(f"  - {note}" for note in n["notes"])]
+    if n["warnings"]:
+        lines += ["WARNINGS:", *(f"  - {w}" for w in n["warnings"])]
+    return "\n".join(lines or ["no warnings"])
+
+
+def _table(rows) -> str:
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    return "\n".join(
+        "  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip()
+        for row in rows
+    )
+
+
+def _maybe(value, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def write_check(report: CheckReport, out, picture: bool = True) -> Path:
+    """Write ``check.txt`` (the table), ``check.json`` (the numbers) and ``voxels.png``.
+
+    Args:
+        report: from ``run_check``.
+        out: the directory (created if missing).
+        picture: also draw ``voxels.png`` (the ``viz`` extra).
+    Returns:
+        the directory.
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "check.txt").write_text(format_check(report) + "\n")
+    write_json(out / "check.json", report.numbers)
+    if picture:
+        from aquagait.viz import plot_voxels
+
+        plot_voxels(report.shape, report.setup.grid, report.voxels, report.link_pos,
+                    report.link_rot, out / "voxels.png", title=_title(report),
+                    labels=_labels(report))  # fmt: skip
+    return out
+
+
+def read_check(out) -> dict:
+    """The numbers of a check written by ``write_check`` (``check.json``)."""
+    return read_json(Path(out) / "check.json")
+
+
+def _title(report: CheckReport) -> str:
+    n, g = report.numbers, report.numbers["grid"]
+    cells = "x".join(str(x) for x in g["resolution"])
+    return (f"{n['creature']}: the body voxelized at the reference pose on its default grid "
+            f"({cells} cells of {g['cell_size'] * 1000:g} mm)")  # fmt: skip
+
+
+def _labels(report: CheckReport) -> list[str]:
+    return [
+        f"{r['name']} ({r['thickness_cells']:.2f} cells thick)" for r in report.numbers["links"]
+    ]

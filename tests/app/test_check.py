@@ -1,0 +1,124 @@
+"""The check job: a creature's table, warnings for links thinner than about two cells, its files."""
+
+import numpy as np
+import pytest
+
+import aquagait as ag
+from aquagait import creatures
+from aquagait.app import CheckSetupError, format_check, prepare_check, run_check, write_check
+from aquagait.app.check import link_volumes, read_check
+from aquagait.cli import main
+from aquagait.control.gait import GaitSpec
+from aquagait.creatures import Creature
+from aquagait.io.run import read_json
+
+# A planar body: a 40 mm wide block and behind it a fin plate 2 mm thick (a fifth of a 10 mm cell).
+PLATE = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
+  <worldbody><body name="block">
+    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
+    <joint type="hinge" axis="0 0 1"/>
+    <geom type="box" size=".05 .02 .02" density="1000"/>
+    <body name="fin" pos="-.05 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-30 30"/>
+      <geom type="box" size=".05 .001 .02" pos="-.05 0 0" density="1000"/></body>
+  </body></worldbody></mujoco>"""
+
+
+def plate_creature() -> Creature:
+    model = ag.load_model(PLATE)
+    gait = GaitSpec(dofs=("j",), bounds={"amplitude": (0.0, 0.5)})
+    return Creature("plate", model, gait, [0.2, 0.0], (48, 32), 0.01, energy_bound=0.1)
+
+
+@pytest.fixture(scope="module")
+def eel_report():
+    return run_check(prepare_check("eel2d"))
+
+
+@pytest.fixture(scope="module")
+def fish_report():
+    return run_check(prepare_check("fish"))
+
+
+def test_the_eels_table_names_every_link_with_its_mass_and_thickness_in_cells(eel_report):
+    table = format_check(eel_report)
+    rows = {line.split()[0]: line for line in table.splitlines() if line.strip()}
+    model, links = creatures.get("eel2d").model, eel_report.numbers["links"]
+    for link, mass, row in zip(model.links, model.link_mass, links, strict=True):
+        assert row["name"] == link and f"{mass:.4g}" in rows[link]
+        assert f"{row['thickness_cells']:.2f}" in rows[link]
+    for line in ("default grid: 128x64 cells of 10 mm", "energy bound", "amplitude[j4]"):
+        assert line in table
+    assert "holds the body with 8 cells" in table
+
+
+def test_volumes_come_from_the_geoms_and_give_water_density(eel_report, fish_report):
+    # The library's geoms carry water density; a box of 0.1 x 0.004 x 0.04 m holds 16 cm^3.
+    for report in (eel_report, fish_report):
+        densities = [row["density"] for row in report.numbers["links"]]
+        np.testing.assert_allclose(densities, 1000.0, rtol=1e-6)
+    volume = link_volumes(ag.load_model(PLATE))
+    np.testing.assert_allclose(volume, [0.1 * 0.04 * 0.04, 0.1 * 0.002 * 0.04], rtol=1e-12)
+
+
+def test_the_fishs_caudal_fin_is_warned_about_and_the_eels_trunk_is_not(eel_report, fish_report):
+    # The caudal plate measures 5 mm on 5 mm cells: one cell. The eel's trunk is 3.5 cells wide.
+    (caudal,) = [w for w in fish_report.warnings if "'caudal'" in w]
+    assert "1.00 cells of 5 mm" in caudal and "flicker in and out of the solid" in caudal
+    assert "cells of 2.5 mm or less" in caudal
+    assert not any("trunk" in w for w in eel_report.warnings)
+    assert fish_report.numbers["thinnest"]["link"] == "caudal"
+    assert "WARNINGS:" in format_check(fish_report)
+
+
+def test_a_plate_thinner_than_the_samples_is_measured_finer_and_warned_about():
+    # At h / 4 = 2.5 mm no sample lies inside the 2 mm plate: it is baked again, finer.
+    report = run_check(prepare_check(plate_creature()))
+    fin = report.numbers["links"][1]
+    assert report.shape.spacing < 0.002 / 3
+    assert 0.002 - report.shape.spacing <= fin["thickness"] <= 0.002
+    (warning,) = report.warnings
+    assert warning.startswith(f"link 'fin' is {fin['thickness'] * 1000:.3g} mm thick, 0.")
+    assert "cells of 10 mm: thinner than about two cells" in warning
+    assert "(0 solid cells at the reference pose)" in warning  # cell centres at y = +-5 mm
+    assert fin["solid_cells"] == 0 and report.numbers["links"][0]["solid_cells"] == 40
+
+
+def test_the_files_are_written_and_check_json_round_trips(tmp_path, eel_report):
+    out = write_check(eel_report, tmp_path / "eel")
+    assert (out / "voxels.png").stat().st_size > 10_000
+    assert (out / "check.txt").read_text() == format_check(eel_report) + "\n"
+    assert read_check(out) == eel_report.numbers == read_json(out / "check.json")
+    skipped = write_check(eel_report, tmp_path / "text", picture=False)
+    assert sorted(p.name for p in skipped.iterdir()) == ["check.json", "check.txt"]
+
+
+def test_an_unknown_name_is_one_line_and_status_2(capsys, tmp_path):
+    with pytest.raises(CheckSetupError, match="unknown creature 'eal'; known creatures"):
+        prepare_check("eal")
+    assert main(["check", "eal", "--out", str(tmp_path / "x")]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert captured.err.splitlines() == [
+        f"aquagait check: error: unknown creature 'eal'; known creatures: "
+        f"{', '.join(creatures.names())}"
+    ]
+    assert not (tmp_path / "x").exists()
+
+
+def test_the_command_prints_the_table_and_writes_the_files(capsys, tmp_path):
+    assert main(["check", "eel2d", "--no-picture", "--out", str(tmp_path)]) == 0
+    printed = capsys.readouterr().out
+    assert printed.startswith("eel2d: ") and f"wrote {tmp_path}/: check.txt, check.json" in printed
+    assert (tmp_path / "check.txt").exists() and not (tmp_path / "voxels.png").exists()
+
+
+@pytest.mark.skipif(
+    not hasattr(creatures, "resolve"),
+    reason="creatures.resolve (NAME or PATH, issue 11) has not landed: check takes names only",
+)
+def test_a_path_to_an_mjcf_file_is_checked(tmp_path):
+    path = tmp_path / "plate.xml"
+    path.write_text(PLATE)
+    report = run_check(prepare_check(str(path)))
+    assert str(path) in report.numbers["source"] and not report.numbers["library"]
+    assert [row["name"] for row in report.numbers["links"]] == ["block", "fin"]
