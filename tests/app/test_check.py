@@ -64,7 +64,7 @@ def test_the_fishs_caudal_fin_is_warned_about_and_the_eels_trunk_is_not(eel_repo
     # The caudal plate measures 5 mm on 5 mm cells: one cell. The eel's trunk is 3.5 cells wide.
     (caudal,) = [w for w in fish_report.warnings if "'caudal'" in w]
     assert "1.00 cells of 5 mm" in caudal and "flicker in and out of the solid" in caudal
-    assert "cells of 2.5 mm or less" in caudal
+    assert "cells of 2.5 mm or less keep it two cells thick (128x64x64 cells" in caudal
     assert not any("trunk" in w for w in eel_report.warnings)
     assert fish_report.numbers["thinnest"]["link"] == "caudal"
     assert "WARNINGS:" in format_check(fish_report)
@@ -98,10 +98,11 @@ def test_an_unknown_name_is_one_line_and_status_2(capsys, tmp_path):
     assert main(["check", "eal", "--out", str(tmp_path / "x")]) == 2
     captured = capsys.readouterr()
     assert captured.out == ""
-    assert captured.err.splitlines() == [
+    (line,) = captured.err.splitlines()
+    assert line.startswith(
         f"aquagait check: error: unknown creature 'eal'; known creatures: "
         f"{', '.join(creatures.names())}"
-    ]
+    )
     assert not (tmp_path / "x").exists()
 
 

@@ -355,7 +355,8 @@ def _thin_warning(row: dict, shape: BodyShape, k: int, grid: dict) -> str:
     else:
         measured = f"{_mm(t)} thick, {t / h:.2f} cells of {_mm(h)}"
     finer = t / THIN_CELLS
-    cells = "x".join(str(math.ceil(n * h / finer - 1e-6)) for n in grid["resolution"])
+    # thickness is sampled in float32: round a hair down before ceil (128.000003 -> 128)
+    cells = "x".join(str(math.ceil(n * h / finer * (1 - 1e-6))) for n in grid["resolution"])
     return (
         f"link {row['name']!r} is {measured}: thinner than about two cells, it will flicker in "
         f"and out of the solid as it moves ({row['solid_cells']} solid cells at the reference "
