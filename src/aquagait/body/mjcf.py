@@ -1,22 +1,103 @@
-"""MJCF text: reading it, and the checks that only the text can answer.
+"""MJCF text: reading it, setting aside what aquagait ignores, and the checks only text answers.
 
 Once MuJoCo has compiled a model it no longer shows whether a geom's density
-was given or defaulted, whether a body had an ``<inertial>``, or which files
-were included; these checks run on the XML itself (default classes and
-``childclass`` resolved), before MuJoCo sees it. The checks on the compiled
-model live in ``aquagait.body.model``.
+was given or defaulted, whether a body had an ``<inertial>``, or which parts
+only describe scenery; so the text is read here first (``prepare_mjcf``):
+
+1. Parse it and inline every ``<include>`` the way MuJoCo does: a relative
+   file name is looked up next to the main file first, then next to the file
+   that includes it; the included ``<mujoco>``'s children replace the element.
+2. Set aside, with one note per kind, what only describes scenery or another
+   simulator's set-up (``IGNORED`` says why for each): geoms and joint-free
+   bodies fixed to the world (floors, targets), lights, cameras, textures,
+   skyboxes and materials, ``<visual>``/``<statistic>``, actuators, sensors,
+   contact pairs and exclusions, tendons, keyframes, ``<option>`` (its fluid
+   density and viscosity, gravity, time step, flags) and the joints' passive
+   terms (armature, damping, stiffness, friction loss), which would otherwise
+   enter MuJoCo's mass matrix or mean nothing here.
+3. List every problem the text shows, each with its fix (``text_problems``),
+   and neutralize it in the copy given to MuJoCo (a density of 1000 for a bad
+   one, a placeholder mass for a link left without geoms) so the checks on
+   the compiled model can still run and all problems come out at once.
+4. Serialize the cleaned tree for MuJoCo with the asset directories
+   (``meshdir``, ``texturedir``, ``assetdir``) made absolute, so mesh files
+   resolve as they would from the file itself.
+
+Problems that leave nothing to check (no such file, not XML, not MJCF, an
+include that cannot be read, no ``<worldbody>``) raise at once. The checks on
+the compiled model live in ``aquagait.body.model``.
 """
 
 from __future__ import annotations
 
+import os
+import re
 import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
 from pathlib import Path
+from xml.parsers import expat
 
 GEOM_KINDS = ("capsule", "box", "sphere", "ellipsoid", "cylinder", "mesh")
+PASSIVE = ("armature", "damping", "stiffness", "frictionloss", "springref", "springdamper")
+FILE_ASSETS = {"mesh": "meshdir", "hfield": "meshdir", "skin": "meshdir", "texture": "texturedir"}
+SECTIONS = {
+    "actuator": "actuator",
+    "sensor": "sensor",
+    "contact": "contact pair or exclusion",
+    "tendon": "tendon",
+    "keyframe": "keyframe",
+}
+PLURALS = {
+    "body fixed to the world": "bodies fixed to the world",
+    "contact pair or exclusion": "contact pairs or exclusions",
+}
+IGNORED = {
+    "scenery": "aquagait's water has no floor, walls or obstacles: only the creature is simulated",
+    "light": "aquagait's pictures light the scene themselves",
+    "camera": "aquagait's pictures place their own camera",
+    "texture": "aquagait's pictures use no MuJoCo textures or skybox",
+    "material": "aquagait's pictures use no MuJoCo materials",
+    "visual": "these only set up MuJoCo's renderer",
+    "actuator": "aquagait drives the joints itself, with the gait's PD torques",
+    "sensor": "aquagait measures the swim itself",
+    "contact": "aquagait's links do not collide; the objective penalizes overlapping links instead",
+    "tendon": "tendons act only through actuators, limits and springs, none of which aquagait uses",
+    "keyframe": "aquagait starts from the reference pose qpos0",
+    "option": "aquagait simulates its own water and body, with gravity off (neutral buoyancy)",
+    "passive": "aquagait's joints feel only the gait's PD torques and the water: no springs, "
+    "damping, friction or rotor inertia",
+}
 
 
 class ModelError(ValueError):
-    """An MJCF that aquagait cannot simulate; the message says where and why."""
+    """An MJCF that aquagait cannot load; every problem found, each with its fix.
+
+    Args:
+        source: the file (or '<string>') the problems are in.
+        problems: one message per problem, each naming the element and the fix.
+            Given a single string and no problems, that string is the message.
+
+    The message starts with the file: ``'my.xml: <problem>'`` for one problem,
+    ``'my.xml has 3 problems:\\n  - <problem>\\n  - ...'`` for several.
+    """
+
+    def __init__(self, source: str, problems: list[str] | str | None = None):
+        if problems is None:
+            source, problems = "", [source]
+        elif isinstance(problems, str):
+            problems = [problems]
+        self.source, self.problems = source, list(problems)
+        if not source:
+            message = "\n".join(self.problems)
+        elif len(self.problems) == 1:
+            message = f"{source}: {self.problems[0]}"
+        else:
+            lines = "".join(f"\n  - {p}" for p in self.problems)
+            message = f"{source} has {len(self.problems)} problems:{lines}"
+        super().__init__(message)
+
+    def __reduce__(self):
+        return type(self), (self.source, self.problems)
 
 
 def read_mjcf(mjcf) -> tuple[str, Path | None, str]:
@@ -24,43 +105,272 @@ def read_mjcf(mjcf) -> tuple[str, Path | None, str]:
     if isinstance(mjcf, str) and mjcf.lstrip().startswith("<"):
         return mjcf, None, "<string>"
     path = Path(mjcf)
+    if not path.exists():
+        raise ModelError(str(path), "no such MJCF file")
     if not path.is_file():
-        raise ModelError(f"{path}: no such MJCF file")
-    return path.read_text(), path, str(path)
+        raise ModelError(str(path), "is not a file; give the path of an MJCF (.xml) file")
+    try:
+        return path.read_text(encoding="utf-8"), path, str(path)
+    except UnicodeDecodeError:
+        raise ModelError(str(path), "is not a text file, so not MJCF (an XML file)") from None
+    except OSError as err:
+        raise ModelError(str(path), f"cannot be read: {err.strerror}") from None
+
+
+@dataclass
+class Prepared:
+    """An MJCF ready for MuJoCo, with what was set aside and what is wrong.
+
+    Attributes:
+        xml: the cleaned MJCF text to compile.
+        notes: one line per kind of thing ignored, saying why.
+        problems: the text's problems, each with its fix.
+        angle: 'degree' or 'radian', the unit of the model's joint ranges.
+        origin: for each line of ``xml`` that opens an element, the (file, line)
+            it came from; used to point MuJoCo's own errors back at the file.
+    """
+
+    xml: str
+    notes: list[str]
+    problems: list[str]
+    angle: str
+    origin: dict = field(default_factory=dict)
+
+    def compile_error(self, err: Exception) -> str:
+        """MuJoCo's compiler message as one problem, its line numbers those of the files."""
+
+        def back(match):
+            file, line = self.origin.get(int(match.group(1)), (None, None))
+            return f"line {line} of {file}" if file else "line ?"
+
+        reason = re.sub(r"line (\d+)", back, str(err).strip())
+        return "MuJoCo cannot compile it: " + re.sub(r"\s*\n\s*", "; ", reason)
+
+
+def prepare_mjcf(text: str, path: Path | None, source: str) -> Prepared:
+    """Parse, inline includes, set aside the ignored parts and list the problems (module doc)."""
+    origin: dict = {}
+    root = _parse(text, source, origin, source)
+    if root.tag != "mujoco":
+        fix = (
+            " (a URDF? MuJoCo converts one: model = mujoco.MjModel.from_xml_path('robot.urdf'),"
+            " then mujoco.mj_saveLastXML('robot.xml', model))"
+        )
+        raise ModelError(
+            source,
+            f"the root element is <{root.tag}>; an MJCF starts with <mujoco>"
+            + (fix if root.tag == "robot" else ""),
+        )
+    base = path.absolute().parent if path is not None else Path.cwd()
+    _inline_includes(root, base, base, origin, source, [])
+    worldbody, *more = root.findall("worldbody") or [None]
+    if worldbody is None:
+        raise ModelError(source, "no <worldbody>: the creature's bodies go inside it")
+    for extra in more:  # MuJoCo reads several (a scene file's and the model's) as one
+        worldbody.extend(list(extra))
+        root.remove(extra)
+    notes = set_aside(root)
+    problems = text_problems(root)
+    if path is not None:
+        _absolute_asset_dirs(root, base, origin)
+    xml, lines = _serialize(root, origin)
+    angle = ([c.get("angle") for c in root.iter("compiler") if c.get("angle")] or ["degree"])[-1]
+    return Prepared(xml, notes, problems, angle, lines)
 
 
 def check_xml(text: str, source: str) -> None:
-    """Raise ModelError for what the compiled model can no longer show (module doc)."""
+    """Raise ModelError listing the problems the text alone shows (see ``text_problems``)."""
+    prepared = prepare_mjcf(text, None, source)
+    if prepared.problems:
+        raise ModelError(source, prepared.problems)
+
+
+# --- reading: parse with line numbers, includes -----------------------------------
+
+
+def _parse(data, label: str, origin: dict, source: str) -> ET.Element:
+    """The element tree of ``data`` (text or bytes); records each element's (file, line)."""
+    builder, parser = ET.TreeBuilder(), expat.ParserCreate()
+
+    def start(tag, attrs):
+        origin[builder.start(tag, attrs)] = (label, parser.CurrentLineNumber)
+
+    parser.StartElementHandler, parser.EndElementHandler = start, builder.end
+    parser.CharacterDataHandler = builder.data
     try:
-        root = ET.fromstring(text)
-    except ET.ParseError as err:
-        raise ModelError(f"{source}: not well-formed XML: {err}") from None
-    if root.tag != "mujoco":
-        raise ModelError(
-            f"{source}: the root element is <{root.tag}>; an MJCF starts with <mujoco>"
-        )
-    for tag, why in [
-        ("include", "aquagait checks densities in one file; inline the included MJCF"),
-        ("equality", "aquagait does not solve equality constraints"),
-    ]:
-        if root.find(f".//{tag}") is not None:
-            raise ModelError(f"{source}: <{tag}> is not supported: {why}")
+        parser.Parse(data, True)
+    except expat.ExpatError as err:
+        what = "" if label == source else f"the included file {label} "
+        raise ModelError(source, f"{what}is not well-formed XML: {err}") from None
+    return builder.close()
+
+
+def _inline_includes(element, main_dir: Path, here: Path, origin, source, chain) -> None:
+    """Replace each <include> below ``element`` by the included file's children, in place."""
+    for index, child in reversed(list(enumerate(element))):
+        if child.tag != "include":
+            _inline_includes(child, main_dir, here, origin, source, chain)
+            continue
+        name = child.get("file")
+        if not name:
+            raise ModelError(source, '<include> has no file="..."; name the MJCF file to include')
+        found = [d / name for d in (main_dir, here) if (d / name).is_file()]
+        if not found:
+            raise ModelError(
+                source,
+                f'<include file="{name}">: no such file (looked in {_places(main_dir, here)})',
+            )
+        target = found[0].resolve()
+        if target in chain:
+            raise ModelError(source, f'<include file="{name}"> includes itself, in a loop')
+        try:
+            data = target.read_bytes()
+        except OSError as err:
+            raise ModelError(source, f'<include file="{name}"> cannot be read: {err}') from None
+        included = _parse(data, str(found[0]), origin, source)
+        if included.tag != "mujoco":
+            raise ModelError(
+                source, f"the included file {found[0]} starts with <{included.tag}>, not <mujoco>"
+            )
+        here_next = found[0].absolute().parent
+        _inline_includes(included, main_dir, here_next, origin, source, [*chain, target])
+        element[index : index + 1] = list(included)
+
+
+def _places(main_dir: Path, here: Path) -> str:
+    return str(main_dir) if main_dir == here else f"{main_dir} or {here}"
+
+
+# --- what only describes scenery or another simulator's set-up -------------------------
+
+
+def set_aside(root) -> list[str]:
+    """Remove from ``root`` what aquagait ignores (module doc, step 2); one note per kind."""
+    notes: list[str] = []
+    parent = {child: p for p in root.iter() for child in p}
+    worldbody = root.find("worldbody")
+    tops = _kids(worldbody, "body")
+    moving = [
+        b for b in tops if b.find(".//joint") is not None or b.find(".//freejoint") is not None
+    ]
+    _drop(parent, _kids(worldbody, "geom"), "geom fixed to the world", "scenery", notes)
+    _drop(parent, [b for b in tops if moving and b not in moving], "body fixed to the world",
+          "scenery", notes)  # fmt: skip
+    for tag in ("light", "camera"):
+        _drop(parent, list(worldbody.iter(tag)), tag, tag, notes)
+    for tag in ("texture", "material"):
+        _drop(parent, [e for a in root.findall("asset") for e in a.findall(tag)], tag, tag, notes)
+    for element in root.iter():
+        element.attrib.pop("material", None)
+    for tag, noun in SECTIONS.items():
+        sections = root.findall(tag)
+        _drop(parent, [e for section in sections for e in section], noun, tag, notes)
+        _drop(parent, sections, "", "", notes)
+    renderer = root.findall("visual") + root.findall("statistic")
+    if renderer:
+        tags = ", ".join(sorted({f"<{e.tag}>" for e in renderer}))
+        notes.append(f"ignored {tags}: {IGNORED['visual']}")
+        _drop(parent, renderer, "", "", notes)
+    _set_aside_options(root, parent, notes)
+    _set_aside_passive(root, parent, notes)
+    return notes
+
+
+def _kids(element, tag: str) -> list:
+    """Children of ``element`` with ``tag``, looking through MuJoCo's <frame> elements."""
+    found = []
+    for child in element:
+        if child.tag == tag:
+            found.append(child)
+        elif child.tag == "frame":
+            found += _kids(child, tag)
+    return found
+
+
+def _drop(parent, elements, noun, why, notes) -> None:
+    """Remove ``elements``; note them as ignored ``noun``s unless ``noun`` is empty."""
+    for element in elements:
+        parent[element].remove(element)
+    if elements and noun:
+        plural = PLURALS.get(noun, noun.replace(" ", "s ", 1) if " " in noun else noun + "s")
+        names = _names(elements, kind=noun.startswith(("geom", "texture")))
+        count = f"{len(elements)} {noun if len(elements) == 1 else plural}"
+        notes.append(f"ignored {count} ({names}): {IGNORED[why]}")
+
+
+def _names(elements, kind=False, most=4) -> str:
+    def label(e):  # a geom's or texture's type too: "plane 'floor'", "skybox"
+        name, kind_of = repr(e.get("name")) if e.get("name") else "", e.get("type") if kind else ""
+        return " ".join(filter(None, [kind_of, name])) or "unnamed"
+
+    labels = [label(e) for e in elements[:most]]
+    more = f" and {len(elements) - most} more" if len(elements) > most else ""
+    return ", ".join(labels) + more
+
+
+def _set_aside_options(root, parent, notes) -> None:
+    ignored = []
+    for option in root.findall("option"):
+        for name, value in option.attrib.items():
+            if name != "gravity" or _nonzero(value):
+                ignored.append(name)
+        ignored += [f"<{child.tag}>" for child in option]
+    if ignored:
+        listed = ", ".join(dict.fromkeys(ignored))
+        notes.append(f"ignored <option> {listed}: {IGNORED['option']}")
+        _drop(parent, root.findall("option"), "", "", [])
+
+
+def _set_aside_passive(root, parent, notes) -> None:
+    terms, where = [], []
+    for joint in root.iter("joint"):
+        found = [a for a in PASSIVE if a in joint.attrib and _nonzero(joint.attrib[a])]
+        for name in PASSIVE:
+            joint.attrib.pop(name, None)
+        if found:
+            terms += found
+            owner = parent[joint]
+            if owner.tag == "default":
+                where.append(f"default class {owner.get('class', 'main')!r}")
+            else:
+                where.append(repr(joint.get("name")) if joint.get("name") else "an unnamed joint")
+    if where:
+        listed = ", ".join(dict.fromkeys(terms))
+        shown = ", ".join(where[:4]) + (f" and {len(where) - 4} more" if len(where) > 4 else "")
+        notes.append(f"ignored joint {listed} (on {shown}): {IGNORED['passive']}")
+
+
+def _nonzero(value: str) -> bool:
+    try:
+        return any(float(v) != 0 for v in value.split())
+    except ValueError:
+        return True
+
+
+# --- what the text shows is wrong ------------------------------------------------------
+
+
+def text_problems(root) -> list[str]:
+    """Every problem the text shows, each with its fix; neutralized in ``root`` (module doc)."""
+    problems: list[str] = []
+    for equality in root.findall("equality"):
+        if len(equality):
+            problems.append(
+                f"<equality> holds {len(equality)} constraint(s) ({_names(list(equality))}); "
+                "aquagait solves no constraints between links: remove it (to move joints "
+                "together, give them shared gait parameters)"
+            )
+        root.remove(equality)
     for compiler in root.iter("compiler"):
         if compiler.get("inertiafromgeom", "").lower() == "false":
-            raise ModelError(
-                f"{source}: <compiler inertiafromgeom='false'>: masses must come from geoms"
+            problems.append(
+                "<compiler inertiafromgeom='false'>: masses must come from geoms; "
+                'remove inertiafromgeom="false"'
             )
-    worldbody = root.find("worldbody")
-    if worldbody is None:
-        raise ModelError(f"{source}: no <worldbody>: the creature's bodies go inside it")
-    static = worldbody.find("geom")
-    if static is not None:
-        raise ModelError(
-            f"{source}: {_geom_label(static)} sits directly in <worldbody>: "
-            "a creature is one tree of bodies; static scenery is not supported"
-        )
+            del compiler.attrib["inertiafromgeom"]
     classes = _default_classes(root)
-    _walk_bodies(worldbody, "main", classes, source)
+    _walk_bodies(root.find("worldbody"), "main", classes, problems)
+    return problems
 
 
 def _default_classes(root) -> dict[str, tuple[str | None, dict]]:
@@ -88,43 +398,100 @@ def _default_attr(classes, name, attr):
     return None
 
 
-def _walk_bodies(element, childclass, classes, source) -> None:
-    for body in element.findall("body"):
+def _walk_bodies(element, childclass, classes, problems) -> None:
+    for body in _kids(element, "body"):
         label = f"body {body.get('name')!r}" if body.get("name") else "an unnamed body"
-        if body.find("inertial") is not None:
-            raise ModelError(
-                f"{source}: {label} has an <inertial> element: masses must come from geom "
-                "densities so they match the volume the fluid sees; remove it"
-            )
-        if body.find("geom") is None:
-            raise ModelError(
-                f"{source}: {label} has no <geom>; every link needs volume (and so mass)"
-            )
         cls = body.get("childclass", childclass)
-        for index, geom in enumerate(body.findall("geom")):
-            _check_geom_xml(geom, index, label, geom.get("class", cls), classes, source)
-        _walk_bodies(body, cls, classes, source)
+        for inertial in body.findall("inertial"):
+            problems.append(
+                f"{label} has an <inertial> element: masses must come from geom densities "
+                "so they match the volume the fluid sees; remove it"
+            )
+            body.remove(inertial)
+        geoms = _kids(body, "geom")
+        if not geoms:
+            problems.append(f"{label} has no <geom>; every link needs volume (and so mass)")
+        for index, geom in enumerate(geoms):
+            _check_geom(body, geom, index, label, geom.get("class", cls), classes, problems)
+        if not _kids(body, "geom"):  # only a placeholder, for MuJoCo to check the rest
+            ET.SubElement(body, "inertial", pos="0 0 0", mass="1", diaginertia="1 1 1")
+        _walk_bodies(body, cls, classes, problems)
 
 
-def _check_geom_xml(geom, index, body_label, cls, classes, source) -> None:
+def _check_geom(body, geom, index, body_label, cls, classes, problems) -> None:
     where = f"{_geom_label(geom, index)} in {body_label}"
     kind = geom.get("type") or _default_attr(classes, cls, "type") or "sphere"
     if kind not in GEOM_KINDS:
-        raise ModelError(f"{source}: {where} is a {kind}; allowed: {', '.join(GEOM_KINDS)}")
-    if geom.get("mass") is not None or _default_attr(classes, cls, "mass") is not None:
-        raise ModelError(f"{source}: {where} sets mass; give density [kg/m^3] instead")
+        problems.append(f"{where} is a {kind}; allowed: {', '.join(GEOM_KINDS)}")
+        _remove_from(body, geom)
+        return
     density = geom.get("density") or _default_attr(classes, cls, "density")
+    if geom.get("mass") is not None or _default_attr(classes, cls, "mass") is not None:
+        fix = "remove it" if density else 'give density="1000" (water) [kg/m^3] instead'
+        problems.append(f"{where} sets mass; masses come from volume x density: {fix}")
+        geom.attrib.pop("mass", None)
+        return
     if density is None:
-        raise ModelError(f'{source}: {where} has no density; add density="1000" (water) [kg/m^3]')
+        problems.append(f'{where} has no density; add density="1000" (water) [kg/m^3]')
+        return
     try:
         value = float(density)
     except ValueError:
-        raise ModelError(f"{source}: {where} has density {density!r}, not a number") from None
+        problems.append(f'{where} has density {density!r}, not a number; e.g. density="1000"')
+        geom.set("density", "1000")
+        return
     if not value > 0:
-        raise ModelError(f"{source}: {where} has density {value:g}; it must be > 0 [kg/m^3]")
+        problems.append(f"{where} has density {value:g}; it must be > 0 [kg/m^3]")
+        geom.set("density", "1000")
+
+
+def _remove_from(body, element) -> None:
+    for holder in body.iter():
+        if element in list(holder):
+            holder.remove(element)
+            return
 
 
 def _geom_label(geom, index=None) -> str:
     if geom.get("name"):
         return f"geom {geom.get('name')!r}"
     return "an unnamed geom" if index is None else f"geom #{index}"
+
+
+# --- the text MuJoCo compiles ---------------------------------------------------------
+
+
+def _absolute_asset_dirs(root, base: Path, origin) -> None:
+    """Asset directories made absolute (relative to the main file), as MuJoCo reads them."""
+    compilers = root.findall("compiler")
+    if not compilers:
+        compilers = [ET.Element("compiler")]
+        root.insert(0, compilers[0])
+        origin[compilers[0]] = (None, None)
+    dirs = {"assetdir": str(base)}
+    for compiler in compilers:
+        for name in ("assetdir", "meshdir", "texturedir"):
+            if compiler.get(name) is not None:
+                dirs[name] = str(base / compiler.get(name))
+                compiler.set(name, dirs[name])
+    compilers[0].set("assetdir", dirs["assetdir"])
+    for asset in root.iter():  # declared in an included file: MuJoCo's second place to look
+        name = asset.get("file")
+        if asset.tag not in FILE_ASSETS or not name or Path(name).is_absolute():
+            continue
+        folder = Path(dirs.get(FILE_ASSETS[asset.tag], dirs["assetdir"]))
+        home = Path(origin[asset][0]).absolute().parent
+        nested = folder / os.path.relpath(home, base) / name
+        if not (folder / name).is_file() and nested.is_file():
+            asset.set("file", str(nested))
+
+
+def _serialize(root, origin) -> tuple[str, dict]:
+    """The tree as text, one element per line, and the source (file, line) of each line."""
+    ET.indent(root)
+    xml = ET.tostring(root, encoding="unicode")
+    opening = [n for n, line in enumerate(xml.splitlines(), 1) if re.match(r"\s*<[^/!?]", line)]
+    elements = list(root.iter())
+    if len(opening) != len(elements):
+        return xml, {}
+    return xml, {n: origin.get(e, (None, None)) for n, e in zip(opening, elements, strict=True)}

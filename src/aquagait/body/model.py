@@ -19,8 +19,12 @@ through its default class); ``<inertial>`` and geom ``mass`` are refused so
 that the mass always matches the volume the fluid sees. Gravity is off.
 Allowed geoms: capsule, box, sphere, ellipsoid, cylinder, mesh.
 
-Every check fails with a ``ModelError`` naming the file, the element and what
-would be right, before MuJoCo's dynamics is ever called.
+What only describes scenery or another simulator's set-up (floors, lights,
+cameras, materials, actuators, sensors, contacts, tendons, keyframes,
+``<option>``, joint armature and damping) is ignored with one note per kind
+(``Model.notes``; ``aquagait.body.mjcf`` says why for each). Every check
+collects its problems: one ``ModelError`` lists them all, each naming the
+element and what would be right, before MuJoCo's dynamics is ever called.
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe
-from aquagait.body.mjcf import GEOM_KINDS, ModelError, check_xml, read_mjcf
+from aquagait.body.mjcf import ModelError, prepare_mjcf, read_mjcf
 
 DEPTH_NAME = "aquagait_depth"
 ACTUATED_KINDS = ("hinge", "ball")
@@ -83,6 +87,9 @@ class Model:
         extent: (3,) its sides [m].
         body_length: the longest of them [m].
         qpos0: (nq,) reference configuration.
+        notes: one line per kind of MJCF content the loader ignored and why
+            (a floor, lights, actuators, armature, ...); empty for a model that
+            describes only the creature.
     """
 
     source: str
@@ -102,6 +109,7 @@ class Model:
     extent: np.ndarray
     body_length: float
     qpos0: np.ndarray
+    notes: tuple[str, ...] = ()
 
     @property
     def nq(self) -> int:
@@ -127,7 +135,11 @@ class Model:
 
 
 def load_model(mjcf: str | Path) -> Model:
-    """Load and check an MJCF creature.
+    """Load and check an MJCF creature, listing every problem at once.
+
+    What only describes scenery or another simulator's set-up (a floor,
+    lights, actuators, sensors, armature, ``<option>``; ``aquagait.body.mjcf``
+    lists it) is ignored, with one note per kind in ``Model.notes``.
 
     Args:
         mjcf: a path to an MJCF file, or the MJCF text itself (a string
@@ -137,27 +149,41 @@ def load_model(mjcf: str | Path) -> Model:
         The checked ``Model``.
 
     Raises:
-        ModelError: the MJCF is malformed or not a swimmer we can simulate; the
-            message names the file, the element and the fix.
+        ModelError: the file cannot be read, is not MJCF, or is not a swimmer we
+            can simulate; ``problems`` lists each problem with its fix, and the
+            message starts with the file.
     """
     text, path, source = read_mjcf(mjcf)
-    check_xml(text, source)
+    prepared = prepare_mjcf(text, path, source)
+    problems = list(prepared.problems)
     try:
-        mj = compile_mjcf(path=path) if path is not None else compile_mjcf(xml=text)
+        mj = compile_mjcf(xml=prepared.xml)
     except ValueError as err:
-        raise ModelError(f"{source}: MuJoCo cannot compile it: {err}") from None
+        raise ModelError(source, [*problems, prepared.compile_error(err)]) from None
     facts = describe(mj)
-    root = _check_tree(facts, source)
-    dim = _root_dimension(facts, root, source)
-    _check_joints(facts, root, source)
-    _check_geoms(facts, source)
-    depth = _depth(facts, dim, source)
-    if dim == 2:
-        _check_planar(facts, root, depth, source)
-    return _build(mj, facts, source, dim, depth, root)
+    root, dim, depth = _check_compiled(facts, prepared.angle, problems)
+    if problems:
+        raise ModelError(source, problems)
+    return _build(mj, facts, source, dim, depth, root, tuple(prepared.notes))
 
 
 # --- checks on the compiled model ---------------------------------------------
+# Each appends its problems, with their fixes, to ``problems`` and goes on.
+
+
+def _check_compiled(facts: CompiledFacts, angle: str, problems: list[str]):
+    """(root link, dimension, depth); a part that cannot be known is None."""
+    root = _check_tree(facts, problems)
+    if root is None:
+        return None, None, None
+    dim = _root_dimension(facts, root, problems)
+    _check_joints(facts, root, angle, problems)
+    if dim is None:
+        return root, None, None
+    depth = _depth(facts, dim, problems)
+    if dim == 2:
+        _check_planar(facts, root, depth, problems)
+    return root, dim, depth
 
 
 def _link(facts: CompiledFacts, k: int) -> str:
@@ -171,20 +197,22 @@ def _joint(facts: CompiledFacts, j: int) -> str:
     return f"{label} in {_link(facts, facts.joint_link[j])}"
 
 
-def _check_tree(facts: CompiledFacts, source: str) -> int:
+def _check_tree(facts: CompiledFacts, problems: list[str]) -> int | None:
     roots = np.flatnonzero(facts.parent == -1)
     if roots.size == 0:
-        raise ModelError(f"{source}: no bodies in <worldbody>; a creature needs at least one")
+        problems.append("no bodies in <worldbody>; a creature needs at least one")
+        return None
     if roots.size > 1:
         names = ", ".join(_link(facts, k) for k in roots)
-        raise ModelError(
-            f"{source}: several bodies directly in <worldbody> ({names}); "
-            "a creature is one tree under one root body"
+        problems.append(
+            f"several bodies directly in <worldbody> ({names}); a creature is one tree under "
+            "one root body: nest the others inside it, or remove them"
         )
+        return None
     return int(roots[0])
 
 
-def _root_dimension(facts: CompiledFacts, root: int, source: str) -> int:
+def _root_dimension(facts: CompiledFacts, root: int, problems: list[str]) -> int | None:
     joints = np.flatnonzero(facts.joint_link == root)
     kinds = [facts.joint_kind[j] for j in joints]
     fix = (
@@ -192,45 +220,40 @@ def _root_dimension(facts: CompiledFacts, root: int, source: str) -> int:
         "hinge z in that order (2D)"
     )
     if not kinds:
-        raise ModelError(f"{source}: no root joint: {_link(facts, root)} is fixed; {fix}")
+        problems.append(f"no root joint: {_link(facts, root)} is fixed; {fix}")
+        return None
     if kinds == ["free"]:
         return 3
     planar = np.eye(3)
     axes = facts.joint_axis[joints] if len(joints) == 3 else None
     if kinds == ["slide", "slide", "hinge"] and np.allclose(axes, planar, atol=1e-9):
         return 2
-    raise ModelError(
-        f"{source}: the root joints of {_link(facts, root)} are {kinds}; {fix}, "
+    problems.append(
+        f"the root joints of {_link(facts, root)} are {kinds}; {fix}, "
         "with the axes along world x, y, z"
     )
+    return None
 
 
-def _check_joints(facts: CompiledFacts, root: int, source: str) -> None:
+def _check_joints(facts: CompiledFacts, root: int, angle: str, problems: list[str]) -> None:
+    unit = "radians" if angle == "radian" else "degrees"
     for j in np.flatnonzero(facts.joint_link != root):
         kind, (lo, hi) = facts.joint_kind[j], facts.joint_range[j]
         if kind not in ACTUATED_KINDS:
-            raise ModelError(
-                f"{source}: {_joint(facts, j)} is a {kind} joint; below the root only "
-                f"hinge and ball joints are allowed"
+            problems.append(
+                f"{_joint(facts, j)} is a {kind} joint; below the root only hinge and ball "
+                "joints are allowed: make it a hinge or a ball, or remove it"
             )
-        if not facts.joint_limited[j] or not (hi > lo if kind == "hinge" else hi > 0):
-            raise ModelError(
-                f"{source}: {_joint(facts, j)} has no limits; the gait needs them: add "
-                'range="lo hi" (a ball: range="0 max")'
-            )
-        if facts.joint_passive[j]:
-            raise ModelError(
-                f"{source}: {_joint(facts, j)} has stiffness or damping; aquagait ignores "
-                "passive joint forces: set them in the PD gains instead"
-            )
-
-
-def _check_geoms(facts: CompiledFacts, source: str) -> None:
-    for g, kind in enumerate(facts.geom_kind):
-        if kind not in GEOM_KINDS:
-            raise ModelError(
-                f"{source}: {_geom(facts, g)} is a {kind}; allowed: {', '.join(GEOM_KINDS)}"
-            )
+            continue
+        has_range = hi > lo if kind == "hinge" else hi > 0
+        if facts.joint_limited[j] and has_range:
+            continue
+        if has_range:
+            fix = 'set limited="true" on it (its range is given but switched off)'
+        else:
+            example = 'range="0 max"' if kind == "ball" else 'range="lo hi"'
+            fix = f'add {example} limited="true" to it ({unit})'
+        problems.append(f"{_joint(facts, j)} has no limits; the gait needs them: {fix}")
 
 
 def _geom(facts: CompiledFacts, g: int) -> str:
@@ -239,74 +262,83 @@ def _geom(facts: CompiledFacts, g: int) -> str:
     return f"{label} in {_link(facts, facts.geom_link[g])}"
 
 
-def _depth(facts: CompiledFacts, dim: int, source: str) -> float | None:
+def _depth(facts: CompiledFacts, dim: int, problems: list[str]) -> float | None:
     declared = facts.numeric.get(DEPTH_NAME)
     if dim == 3:
         if declared is not None:
-            raise ModelError(
-                f"{source}: numeric {DEPTH_NAME!r} is set but the root is a free joint (3D); "
-                "the depth belongs to planar models only"
+            problems.append(
+                f"numeric {DEPTH_NAME!r} is set but the root is a free joint (3D); "
+                "the depth belongs to planar models only: remove it"
             )
         return None
     example = f'<custom><numeric name="{DEPTH_NAME}" data="0.05"/></custom>'
     if declared is None:
-        raise ModelError(f"{source}: a planar (2D) model must declare its prism depth: {example}")
-    if declared.size != 1 or not declared[0] > 0:
-        raise ModelError(
-            f"{source}: numeric {DEPTH_NAME!r} is {declared.tolist()}; "
-            "it must be one positive number [m]"
+        problems.append(
+            f"a planar (2D) model must declare its prism depth: {example} "
+            "(every link is a prism this thick along z [m])"
         )
+        return None
+    if declared.size != 1 or not declared[0] > 0:
+        problems.append(
+            f"numeric {DEPTH_NAME!r} is {declared.tolist()}; it must be one positive number [m]"
+        )
+        return None
     return float(declared[0])
 
 
-def _check_planar(facts: CompiledFacts, root: int, depth: float, source: str) -> None:
-    tol = 1e-6 * max(depth, 1e-3)
+def _check_planar(facts: CompiledFacts, root: int, depth: float | None, problems) -> None:
+    """Joints about z, links in z = 0, prism geoms (their thickness when ``depth`` is known)."""
+    tol = 1e-6 * max(depth or 0.0, 1e-3)
     for j in np.flatnonzero(facts.joint_link != root):
-        if facts.joint_kind[j] != "hinge" or abs(abs(facts.joint_axis[j, 2]) - 1) > 1e-9:
-            raise ModelError(
-                f"{source}: the model is planar (2D) but {_joint(facts, j)} is not a hinge "
-                "about z; a planar creature bends only in the x-y plane"
+        kind = facts.joint_kind[j]
+        if kind in ACTUATED_KINDS and (
+            kind != "hinge" or abs(abs(facts.joint_axis[j, 2]) - 1) > 1e-9
+        ):
+            problems.append(
+                f"the model is planar (2D) but {_joint(facts, j)} is not a hinge about z; "
+                'a planar creature bends only in the x-y plane: make it a hinge with axis="0 0 1"'
             )
-    off_plane = np.flatnonzero(np.abs(facts.link_pos[:, 2]) > tol)
-    if off_plane.size:
-        raise ModelError(
-            f"{source}: the model is planar (2D) but {_link(facts, off_plane[0])} is at "
-            f"z = {facts.link_pos[off_plane[0], 2]:g}; every link must lie in z = 0"
+    for k in np.flatnonzero(np.abs(facts.link_pos[:, 2]) > tol):
+        problems.append(
+            f"the model is planar (2D) but {_link(facts, k)} is at z = "
+            f"{facts.link_pos[k, 2]:g}; every link must lie in z = 0"
         )
+    thick = "depth" if depth is None else f"{depth:g} m"
     for g in range(len(facts.geom_kind)):
         problem = _prism_problem(facts, g, depth, tol)
         if problem:
-            raise ModelError(
-                f"{source}: the model is planar (2D) but {_geom(facts, g)} {problem}; a planar "
-                f"geom is a prism of depth {depth:g} m along z centred on z = 0: a box with "
-                "z half-size depth/2, a cylinder along z with half-height depth/2, or a mesh "
-                "with every vertex at z = +-depth/2"
+            problems.append(
+                f"the model is planar (2D) but {_geom(facts, g)} {problem}; make it a prism "
+                f"along z, {thick} thick and centred on z = 0: a box, a cylinder along z, or "
+                "a mesh with its vertices on the two faces z = +-thickness/2"
             )
 
 
-def _prism_problem(facts: CompiledFacts, g: int, depth: float, tol: float) -> str | None:
+def _prism_problem(facts: CompiledFacts, g: int, depth, tol: float) -> str | None:
     kind, size, rot = facts.geom_kind[g], facts.geom_size[g], facts.geom_rot[g]
+    if kind not in ("box", "cylinder", "mesh"):
+        return f"is {'an' if kind[0] in 'aeiou' else 'a'} {kind}"
     if abs(facts.geom_pos[g, 2]) > tol and kind != "mesh":
         return f"is centred at z = {facts.geom_pos[g, 2]:g}"
     if kind in ("box", "cylinder"):
         if abs(abs(rot[2, 2]) - 1) > 1e-9:
             return "is tilted out of the x-y plane"
         half = size[2] if kind == "box" else size[1]
-        if abs(half - depth / 2) > tol:
+        if depth is not None and abs(half - depth / 2) > tol:
             return f"has z half-size {half:g}"
         return None
-    if kind == "mesh":
-        off = np.abs(np.abs(facts.geom_vertices[g][:, 2]) - depth / 2)
-        if off.max() > tol:
-            return f"has a vertex at z = {facts.geom_vertices[g][off.argmax(), 2]:.4g}"
+    if depth is None:
         return None
-    return f"is a {kind}"
+    off = np.abs(np.abs(facts.geom_vertices[g][:, 2]) - depth / 2)
+    if off.max() > tol:
+        return f"has a vertex at z = {facts.geom_vertices[g][off.argmax(), 2]:.4g}"
+    return None
 
 
 # --- the description ------------------------------------------------------------
 
 
-def _build(mj, facts: CompiledFacts, source, dim, depth, root) -> Model:
+def _build(mj, facts: CompiledFacts, source, dim, depth, root, notes) -> Model:
     joints = tuple(_joint_record(facts, j) for j in range(len(facts.joint_names)))
     dof_names = [""] * facts.nv
     for joint in joints:
@@ -337,6 +369,7 @@ def _build(mj, facts: CompiledFacts, source, dim, depth, root) -> Model:
         extent=extent,
         body_length=float(extent.max()),
         qpos0=facts.qpos0,
+        notes=notes,
     )
 
 
