@@ -249,3 +249,20 @@ def test_model_errors_pickle_and_one_problem_reads_as_one_line():
     two = pickle.loads(pickle.dumps(ModelError("fish.xml", ["a", "b"])))
     assert str(two) == "fish.xml has 2 problems:\n  - a\n  - b" and two.source == "fish.xml"
     assert isinstance(two, ValueError)
+
+
+def test_gravity_passive_terms_on_named_joints_and_a_floor_in_a_frame_are_noted():
+    xml = """<mujoco><option gravity="0 0 -9.81"/><worldbody>
+      <frame pos="0 0 -1"><geom name="seabed" type="box" size="1 1 .1"/></frame>
+      <body name="fish"><freejoint/><geom type="sphere" size=".05" density="1000"/>
+        <body name="tail" pos="-.1 0 0">
+          <joint name="j" type="hinge" axis="0 0 1" range="-30 30" frictionloss=".1"/>
+          <geom type="box" size=".05 .005 .04" pos="-.05 0 0" density="1000"/></body>
+      </body></worldbody></mujoco>"""
+    assert heads(load_model(xml).notes) == [
+        "ignored 1 geom fixed to the world (box 'seabed')",
+        "ignored <option> gravity",
+        "ignored joint frictionloss (on 'j')",
+    ]
+    still = xml.replace('-9.81"', '0"').replace(' frictionloss=".1"', "")
+    assert heads(load_model(still).notes) == ["ignored 1 geom fixed to the world (box 'seabed')"]

@@ -14,7 +14,11 @@ only describe scenery; so the text is read here first (``prepare_mjcf``):
    contact pairs and exclusions, tendons, keyframes, ``<option>`` (its fluid
    density and viscosity, gravity, time step, flags) and the joints' passive
    terms (armature, damping, stiffness, friction loss), which would otherwise
-   enter MuJoCo's mass matrix or mean nothing here.
+   enter MuJoCo's mass matrix or mean nothing here. Tendons are ignored since
+   they act only through actuators, limits and springs; ``<equality>``
+   constraints are refused instead, since they change how the body moves.
+   Geom attributes for contacts or looks (``contype``, ``rgba``) and sites
+   are harmless and kept without a note.
 3. List every problem the text shows, each with its fix (``text_problems``),
    and neutralize it in the copy given to MuJoCo (a density of 1000 for a bad
    one, a placeholder mass for a link left without geoms) so the checks on
