@@ -1,35 +1,44 @@
-"""The creature library (DESIGN.md §4, STYLE.md §14).
+"""The creature library, and creatures from any MJCF file (DESIGN.md §2.8, §4; STYLE.md §14).
 
     import aquagait as ag
-    ag.creatures.names()            # ['accordion2d', 'eel2d', 'fish']
-    eel = ag.creatures.get("eel2d") # model, dim, default grid, gait spec
+    ag.creatures.names()                 # ['accordion2d', 'eel2d', 'fish']
+    eel = ag.creatures.get("eel2d")      # model, dim, default grid, gait spec
+    mine = ag.creatures.load("my.xml")   # my.xml (+ my.aquagait.json), defaults filled
+    ag.creatures.resolve("eel2d")        # a library name, or a path to an MJCF file
     ag.creatures.register("mine", build_function)
 
-Each built-in creature is an MJCF file beside this module plus a short module
-whose docstring tables its links, DOFs, gait parameters and bounds.
+Each built-in creature is an MJCF file beside this module, its metadata
+``<name>.aquagait.json`` (format: ``aquagait.creatures.metadata``) and a
+module whose docstring tables its links, DOFs, gait parameters and bounds
+(``eel2d``, ``fish``, ``accordion2d``). What metadata leaves out comes from
+the model: ``aquagait.creatures.defaults``.
 """
 
-from aquagait.creatures import accordion2d, eel2d, fish
+from aquagait.creatures.creature import Creature, CreatureError, ShippedGait, UnknownCreatureError
+from aquagait.creatures.defaults import ENERGY_COEFFICIENT, energy_bound
 from aquagait.creatures.registry import (
-    Creature,
-    UnknownCreatureError,
-    energy_bound,
     format_table,
     get,
+    load,
     names,
     register,
+    register_library,
+    resolve,
 )
 
-register("accordion2d", accordion2d.build)
-register("eel2d", eel2d.build)
-register("fish", fish.build)
+register_library()
 
 __all__ = [
+    "ENERGY_COEFFICIENT",
     "Creature",
+    "CreatureError",
+    "ShippedGait",
     "UnknownCreatureError",
     "energy_bound",
     "format_table",
     "get",
+    "load",
     "names",
     "register",
+    "resolve",
 ]

@@ -1,128 +1,28 @@
-"""The creature library: a registry of named creatures (STYLE.md §14).
+"""The creature library: a registry of named creatures (STYLE.md §14), and creatures from files.
 
-A creature is an MJCF model plus what the rest of aquagait needs to swim it:
-the gait's parameterization and bounds, a hand-set default gait, the default
-fluid grid, the energy bound of the objective and the PD servo gains.
+A library creature is an MJCF file beside this module, its side-car
+``<name>.aquagait.json`` (``aquagait.creatures.metadata``) and a module whose
+docstring tables it; every shipped side-car is registered under its stem.
+``load(path)`` makes a creature of any MJCF file the same way, and
+``resolve(name_or_path)`` takes either.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
-from aquagait.body.model import Model, load_model
-from aquagait.control.gait import GaitSpec
-from aquagait.control.pd import StablePD
+from aquagait.body.model import load_model
+from aquagait.creatures.creature import Creature, CreatureError, UnknownCreatureError
+from aquagait.creatures.metadata import (
+    SUFFIX,
+    Metadata,
+    build_creature,
+    read_metadata,
+    sidecar_path,
+)
 
 HERE = Path(__file__).resolve().parent
-ENERGY_COEFFICIENT = 5.0
-"""Energy bound = ENERGY_COEFFICIENT * mass * (body_length / period)^2 over two cycles.
-
-Estimate: the body swings about 0.1 L at 2 pi / T, so at speeds v^2 ~ 0.4 (L/T)^2,
-accelerating its own mass plus about as much added water mass; |tau qd| counts
-speeding up and slowing down, four times a cycle: ~1.6 m (L/T)^2 per cycle,
-~3.2 over two, rounded up to 5. Calibrate once the fluid is coupled.
-"""
-
-
-class UnknownCreatureError(KeyError):
-    """No creature of that name; the message lists the known ones."""
-
-    def __str__(self) -> str:
-        return str(self.args[0])
-
-
-@dataclass(frozen=True, eq=False)
-class Creature:
-    """A library creature.
-
-    Attributes:
-        name: registry name.
-        model: the checked MJCF model.
-        gait: which sine parameters are optimized, and their bounds.
-        default_gait: (gait.size,) a hand-set travelling wave, within bounds and limits.
-        resolution: default grid cells per axis, (nx, ny) or (nx, ny, nz).
-        cell_size: default h [m].
-        energy_bound: [J] actuator work over two cycles above which the
-            objective's energy term switches on (DESIGN.md §2.4).
-        natural_frequency: PD servo w [rad/s] (see ``aquagait.control.pd``).
-        damping_ratio: PD servo zeta.
-        description: one line.
-    """
-
-    name: str
-    model: Model
-    gait: GaitSpec
-    default_gait: np.ndarray
-    resolution: tuple[int, ...]
-    cell_size: float
-    energy_bound: float
-    natural_frequency: float = 100.0
-    damping_ratio: float = 1.5
-    description: str = ""
-
-    def __post_init__(self):
-        object.__setattr__(self, "default_gait", np.asarray(self.default_gait, dtype=float))
-        _check_creature(self)
-
-    @property
-    def dim(self) -> int:
-        return self.model.dim
-
-    def gait_limits(self) -> tuple[np.ndarray, np.ndarray]:
-        """Joint limits (lower, upper) of the gait's DOFs, each (n,) [rad]."""
-        index = [list(self.model.dof_names).index(d) for d in self.gait.dofs]
-        position = {int(d): i for i, d in enumerate(self.model.actuated_dofs)}
-        rows = [position[i] for i in index]
-        return self.model.lower[rows], self.model.upper[rows]
-
-    def policy(self, params=None) -> StablePD:
-        """The stable PD servo tracking gait ``params`` (default: ``default_gait``)."""
-        x = self.default_gait if params is None else params
-        gait = self.gait.unpack(x)
-        return StablePD.tuned(self.model, gait, self.natural_frequency, self.damping_ratio)
-
-
-def energy_bound(model: Model, period: float = 1.0) -> float:
-    """The energy bound [J] of a creature over two cycles (see ``ENERGY_COEFFICIENT``)."""
-    return ENERGY_COEFFICIENT * model.mass * (model.body_length / period) ** 2
-
-
-def load_creature_model(filename: str) -> Model:
-    """Load an MJCF shipped with the package (``aquagait/creatures/<filename>``)."""
-    return load_model(HERE / filename)
-
-
-def _check_creature(c: Creature) -> None:
-    actuated = {c.model.dof_names[d] for d in c.model.actuated_dofs}
-    missing = [d for d in c.gait.dofs if d not in actuated]
-    if missing:
-        raise ValueError(f"creature {c.name!r}: gait DOFs {missing} are not actuated DOFs")
-    if c.default_gait.shape != (c.gait.size,):
-        raise ValueError(
-            f"creature {c.name!r}: default gait has {c.default_gait.size} numbers, "
-            f"the gait has {c.gait.size}: {c.gait.names}"
-        )
-    outside = (c.default_gait < c.gait.lower) | (c.default_gait > c.gait.upper)
-    if np.any(outside):
-        names = [n for n, o in zip(c.gait.names, outside, strict=True) if o]
-        raise ValueError(f"creature {c.name!r}: default gait outside its bounds at {names}")
-    violations = c.gait.limit_violations(c.default_gait, *c.gait_limits())
-    if violations:
-        raise ValueError(f"creature {c.name!r}: default gait leaves joint limits: {violations}")
-    if len(c.resolution) != c.dim:
-        raise ValueError(f"creature {c.name!r}: resolution {c.resolution} is not {c.dim}D")
-    span = np.asarray(c.resolution) * c.cell_size
-    need = c.model.extent[: c.dim] + 8 * c.cell_size
-    if np.any(span < need):
-        raise ValueError(
-            f"creature {c.name!r}: grid {c.resolution} x {c.cell_size} m spans {span} m, "
-            f"too small for a body of extent {c.model.extent[: c.dim]} m plus 4 cells a side"
-        )
-
 
 _FACTORIES: dict[str, Callable[[], Creature]] = {}
 _BUILT: dict[str, Creature] = {}
@@ -178,3 +78,67 @@ def format_table() -> str:
         for row in rows
     ]
     return "\n".join(lines)
+
+
+_LOADED: dict[tuple, Creature] = {}
+
+
+def load(path) -> Creature:
+    """The creature in an MJCF file, with its side-car ``<stem>.aquagait.json`` if there is one.
+
+    What the side-car leaves out (or all of it, without one) comes from the
+    model (``aquagait.creatures.defaults``); ``Creature.notes`` lists it. The
+    creature is named after the file's stem. Loaded once per file and
+    modification time (of the MJCF and its side-car).
+
+    Args:
+        path: the MJCF file (a side-car's path finds its MJCF beside it).
+
+    Raises:
+        CreatureError: no such file, or a side-car that is malformed or does
+            not fit the model (every problem listed).
+        ModelError: the MJCF is not a creature aquagait can simulate
+            (``aquagait.body.model``; every problem listed).
+    """
+    mjcf = Path(path).expanduser().resolve()
+    if mjcf.name.endswith(SUFFIX):
+        mjcf = mjcf.with_name(mjcf.name[: -len(SUFFIX)] + ".xml")
+    if not mjcf.is_file():
+        what = "is a directory" if mjcf.is_dir() else "does not exist"
+        raise CreatureError(f"{path} {what}: give the path of an MJCF file (.xml)")
+    side = sidecar_path(mjcf)
+    key = (str(mjcf), mjcf.stat().st_mtime_ns, side.stat().st_mtime_ns if side.is_file() else None)
+    if key not in _LOADED:
+        meta = read_metadata(side) if side.is_file() else Metadata()
+        creature = build_creature(load_model(mjcf), meta, name=mjcf.stem)
+        for old in [k for k in _LOADED if k[0] == key[0]]:  # an edited file's older versions
+            del _LOADED[old]
+        _LOADED[key] = creature
+    return _LOADED[key]
+
+
+def resolve(name_or_path) -> Creature:
+    """A library creature by name, else the creature in that MJCF file (``load``).
+
+    Raises:
+        UnknownCreatureError: neither a library name nor a file; the message
+            lists the known names and says that a path works too.
+        CreatureError, ModelError: as ``load``.
+    """
+    text = str(name_or_path)
+    if not isinstance(name_or_path, Path) and text in _FACTORIES:
+        return get(text)
+    path = Path(text).expanduser()
+    if path.exists() or path.suffix.lower() == ".xml" or "/" in text or "\\" in text:
+        return load(path)
+    raise UnknownCreatureError(
+        f"unknown creature {text!r}; known creatures: {', '.join(names())}; "
+        "or give the path of an MJCF file (e.g. my_creature.xml)"
+    )
+
+
+def register_library() -> None:
+    """Register every creature shipped with the package: each ``*.aquagait.json`` here."""
+    for side in sorted(HERE.glob(f"*{SUFFIX}")):
+        name = side.name[: -len(SUFFIX)]
+        register(name, lambda mjcf=HERE / f"{name}.xml": load(mjcf), replace=True)

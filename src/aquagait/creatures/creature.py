@@ -1,0 +1,190 @@
+"""A creature: a checked model plus what aquagait needs to swim it (DESIGN.md §2.8).
+
+The model says what the body is; the rest says how to drive it and where to
+put it: the gait's parameterization and bounds, the gait it swims by default,
+the default fluid grid, the energy bound of the objective and the PD servo
+gains. ``aquagait.creatures.metadata`` builds one from an MJCF file and its
+side-car; the checks here hold for any creature, however it was built.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+
+from aquagait.body.dynamics import Dynamics
+from aquagait.body.model import Model
+from aquagait.control.gait import GaitSpec
+from aquagait.control.pd import StablePD
+from aquagait.sim.follow import CLEARANCE
+
+
+class CreatureError(ValueError):
+    """A creature file, its metadata or a creature built from them is not usable;
+    the message names the file, the entry, what is wrong and what would be right."""
+
+
+class UnknownCreatureError(KeyError):
+    """No creature of that name; the message lists the known ones."""
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+@dataclass(frozen=True)
+class ShippedGait:
+    """A gait shipped with a creature: its parameter vector and where it came from.
+
+    Attributes:
+        params: (gait.size,) the parameter vector, in ``GaitSpec.names`` order.
+        provenance: how it was made: ``method`` ('hand-set' or 'optimized'),
+            ``command``, ``seed``, ``grid``, ``objective``, ``wall_time``,
+            ``date``, ... (free-form; see ``aquagait.creatures.metadata``).
+    """
+
+    params: np.ndarray
+    provenance: Mapping[str, object] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, eq=False)
+class Creature:
+    """A creature: model, gait parameterization, default gait, grid, energy bound, PD gains.
+
+    Attributes:
+        name: registry name, or the MJCF file's stem.
+        model: the checked MJCF model.
+        gait: which sine parameters are optimized, and their bounds.
+        default_gait: (gait.size,) the gait it swims by default: the shipped
+            ``straight`` gait, else a small travelling wave; within bounds and limits.
+        resolution: default grid cells per axis, (nx, ny) or (nx, ny, nz).
+        cell_size: default h [m].
+        energy_bound: [J] actuator work over two cycles above which the
+            objective's energy term switches on (DESIGN.md §2.4).
+        natural_frequency: PD servo w [rad/s] (see ``aquagait.control.pd``).
+        damping_ratio: PD servo zeta.
+        description: one line.
+        source: the MJCF file it was loaded from ('' when built in Python).
+        metadata_path: its side-car (``<stem>.aquagait.json``), or None.
+        gaits: shipped gaits by name (``straight``, later manoeuvres).
+        notes: the defaults that were filled in, one line each.
+    """
+
+    name: str
+    model: Model
+    gait: GaitSpec
+    default_gait: np.ndarray
+    resolution: tuple[int, ...]
+    cell_size: float
+    energy_bound: float
+    natural_frequency: float = 100.0
+    damping_ratio: float = 1.5
+    description: str = ""
+    source: str = ""
+    metadata_path: Path | None = None
+    gaits: Mapping[str, ShippedGait] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        object.__setattr__(self, "default_gait", np.asarray(self.default_gait, dtype=float))
+        object.__setattr__(self, "resolution", tuple(int(n) for n in self.resolution))
+        object.__setattr__(self, "gaits", MappingProxyType(dict(self.gaits)))
+        object.__setattr__(self, "notes", tuple(self.notes))
+        problems = creature_problems(self)
+        if problems:
+            raise CreatureError(f"creature {self.name!r}: " + "; ".join(problems))
+
+    @property
+    def dim(self) -> int:
+        return self.model.dim
+
+    def gait_limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Joint limits (lower, upper) of the gait's DOFs, each (n,) [rad]."""
+        return dof_limits(self.model, self.gait.dofs)
+
+    def policy(self, params=None) -> StablePD:
+        """The stable PD servo tracking gait ``params`` (default: ``default_gait``)."""
+        x = self.default_gait if params is None else params
+        gait = self.gait.unpack(x)
+        return StablePD.tuned(self.model, gait, self.natural_frequency, self.damping_ratio)
+
+
+def actuated_dof_names(model: Model) -> tuple[str, ...]:
+    """Names of the model's actuated DOFs in MuJoCo order (a ball's axes as 'name:x|y|z')."""
+    return tuple(model.dof_names[int(d)] for d in model.actuated_dofs)
+
+
+def dof_limits(model: Model, dofs) -> tuple[np.ndarray, np.ndarray]:
+    """Joint limits (lower, upper) of the named actuated DOFs, each (len(dofs),) [rad]."""
+    row = {name: i for i, name in enumerate(actuated_dof_names(model))}
+    rows = [row[d] for d in dofs]
+    return model.lower[rows], model.upper[rows]
+
+
+def gait_problems(spec: GaitSpec, params, lower, upper) -> list[str]:
+    """What keeps ``params`` from being an admissible gait: bounds, then joint limits."""
+    x = np.asarray(params, dtype=float)
+    if x.shape != (spec.size,):
+        return [f"has {x.size} numbers, the gait has {spec.size}: {', '.join(spec.names)}"]
+    outside = [
+        f"{n} = {v:.6g} outside [{lo:.6g}, {hi:.6g}]"
+        for n, v, lo, hi in zip(spec.names, x, spec.lower, spec.upper, strict=True)
+        if not lo <= v <= hi
+    ]
+    if outside:
+        return [f"is outside its bounds: {', '.join(outside)}"]
+    violations = spec.limit_violations(x, lower, upper)
+    return [f"leaves the joint limits: {'; '.join(violations)}"] if violations else []
+
+
+def smallest_grid(model: Model, cell_size: float, clearance: int = CLEARANCE) -> tuple[int, ...]:
+    """Cells per axis of the smallest grid ``make_scene`` accepts for the model at rest.
+
+    ``make_scene`` centres the grid on the centre of mass, so each axis must
+    hold twice the larger distance from it to the body's box, plus
+    ``clearance`` cells of water on either side (``aquagait.sim.follow``).
+    """
+    dim = model.dim
+    com = Dynamics(model.mj).center_of_mass(model.qpos0)[:dim]
+    lo, hi = model.bounds[0, :dim], model.bounds[1, :dim]
+    half = np.maximum(com - lo, hi - com)
+    return tuple(math.ceil(2 * x / cell_size + 2 * clearance - 1e-9) for x in half)
+
+
+def creature_problems(c: Creature) -> list[str]:
+    """Everything that makes a creature unusable, one message each (empty: usable)."""
+    actuated = actuated_dof_names(c.model)
+    missing = [d for d in c.gait.dofs if d not in actuated]
+    if missing:
+        return [f"gait DOFs {missing} are not actuated DOFs of the model ({', '.join(actuated)})"]
+    problems = []
+    limits = c.gait_limits()
+    for label, x in [("default gait", c.default_gait)] + [
+        (f"shipped gait {name!r}", g.params) for name, g in c.gaits.items()
+    ]:
+        problems += [f"{label} {p}" for p in gait_problems(c.gait, x, *limits)]
+    if len(c.resolution) != c.dim:
+        problems.append(f"resolution {c.resolution} is not {c.dim}D")
+    elif not (np.isfinite(c.cell_size) and c.cell_size > 0):
+        problems.append(f"cell size {c.cell_size!r} must be a positive length [m]")
+    else:
+        need = smallest_grid(c.model, c.cell_size)
+        if any(n < m for n, m in zip(c.resolution, need, strict=True)):
+            problems.append(
+                f"grid {'x'.join(map(str, c.resolution))} of {c.cell_size:g} m cells is too "
+                f"small for a body of extent {np.round(c.model.extent[: c.dim], 4).tolist()} m "
+                f"with {CLEARANCE} cells of water on every side around its centre of mass: "
+                f"use at least {'x'.join(map(str, need))} cells"
+            )
+    if not (np.isfinite(c.energy_bound) and c.energy_bound > 0):
+        problems.append(f"energy bound {c.energy_bound!r} must be a positive number of joules")
+    if not (c.natural_frequency > 0 and c.damping_ratio >= 0):
+        problems.append(
+            f"PD gains need natural_frequency > 0 rad/s and damping_ratio >= 0; got "
+            f"{c.natural_frequency}, {c.damping_ratio}"
+        )
+    return problems
