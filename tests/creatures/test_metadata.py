@@ -10,6 +10,7 @@ import aquagait as ag
 from aquagait.body.mjcf import ModelError
 from aquagait.creatures import CreatureError, UnknownCreatureError, defaults, load, resolve
 from aquagait.creatures.metadata import parse_metadata
+from aquagait.creatures.schema import KEYS
 from aquagait.sim.follow import CLEARANCE, room
 
 # A planar three-link swimmer in the style of the reinforcement-learning suites
@@ -283,3 +284,24 @@ def test_a_metadata_object_can_be_checked_without_a_file():
     with pytest.raises(CreatureError, match=r"^metadata: gait.free\[0\]: 'size' is not one of"):
         parse_metadata({"gait": {"free": ["size"]}})
     assert parse_metadata({}).gait == {}
+
+
+def test_the_formats_documented_example_is_valid_metadata():
+    doc = ag.creatures.metadata.__doc__
+    start = doc.index("\n    {\n") + 1
+    example = json.loads(doc[start : doc.index("\n    }\n", start) + 6])
+    meta = parse_metadata(example)
+    assert meta.gait["mirror"] == (("leg_r", "leg_l", -1.0),)
+    assert meta.gaits["straight"]["provenance"]["seed"] == 3
+    assert set(example) == set(KEYS[""])  # every entry shown
+    assert set(example["gait"]) | {"amplitude", "phase"} == set(KEYS["gait"])  # these are free
+
+
+def test_a_free_offset_gets_its_bounds_from_the_limits_whatever_the_amplitudes(tmp_path):
+    sidecar = {"gait": {"free": ["amplitude", "offset"], "bounds": {"amplitude": [0, 0.2]}}}
+    newt = load(write(tmp_path, "newt", NEWT, sidecar))
+    assert newt.gait.names[-1] == "offset[tail]"
+    assert newt.gait.bounds["offset[tail]"] == pytest.approx((np.deg2rad(-20), np.deg2rad(40)))
+    assert newt.gait.bounds["amplitude"] == (0.0, 0.2)
+    fixed = load(write(tmp_path, "fixed", NEWT, {"gait": {"free": ["phase"], "amplitude": 0.1}}))
+    assert fixed.gait.bounds == {"phase": (-np.pi, np.pi)}  # nothing for a fixed amplitude

@@ -13,7 +13,6 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import MappingProxyType
 
 import numpy as np
 
@@ -36,7 +35,7 @@ class UnknownCreatureError(KeyError):
         return str(self.args[0])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ShippedGait:
     """A gait shipped with a creature: its parameter vector and where it came from.
 
@@ -92,7 +91,7 @@ class Creature:
     def __post_init__(self):
         object.__setattr__(self, "default_gait", np.asarray(self.default_gait, dtype=float))
         object.__setattr__(self, "resolution", tuple(int(n) for n in self.resolution))
-        object.__setattr__(self, "gaits", MappingProxyType(dict(self.gaits)))
+        object.__setattr__(self, "gaits", dict(self.gaits))
         object.__setattr__(self, "notes", tuple(self.notes))
         problems = creature_problems(self)
         if problems:

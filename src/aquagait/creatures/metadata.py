@@ -5,33 +5,43 @@ same stem (``eel2d.xml`` and ``eel2d.aquagait.json``) stating what the model
 cannot: how the gait drives the joints, the default grid, the energy bound,
 the PD gains and the shipped gaits. Every entry is optional; what is left out
 comes from the model (``aquagait.creatures.defaults``), and ``Creature.notes``
-says which defaults were filled. A complete example (an imaginary newt with a
-ball-jointed neck, mirrored legs and its legs optimized after its tail):
+says which defaults were filled. A complete example (an imaginary newt: two
+tail hinges, mirrored legs optimized after the tail):
 
     {
-      "description": "a newt, 6 links, 3D",
+      "description": "a newt, 5 links, 3D",
       "gait": {
-        "dofs": ["neck:x", "neck:y", "neck:z", "tail1", "tail2", "leg_l", "leg_r"],
+        "dofs": ["tail1", "tail2", "leg_l", "leg_r"],
         "free": ["amplitude", "phase"],
         "shared": [],
         "period": 1.0,
         "offset": 0.0,
         "mirror": [["leg_r", "leg_l", -1]],
-        "groups": [["neck:x", "neck:y", "neck:z", "tail1", "tail2"], ["leg_l", "leg_r"]],
-        "bounds": {"amplitude": [0, 0.6], "amplitude[tail2]": [0, 0.9], "phase": [-3.1416, 3.1416]}
+        "groups": [["tail1", "tail2"], ["leg_l", "leg_r"]],
+        "bounds": {"amplitude": [0, 0.6], "amplitude[tail2]": [0, 0.9], "phase": [-3.14, 3.14]}
       },
       "pd": {"natural_frequency": 100, "damping_ratio": 1.5},
       "grid": {"resolution": [96, 48, 48], "cell_size": 0.004},
       "energy_bound": 0.02,
       "gaits": {
         "straight": {
-          "params": {"amplitude[neck:x]": 0.1, "...": "one entry per gait parameter"},
-          "provenance": {"method": "optimized", "command": "aquagait optimize newt.xml
-                         --generations 100 --seed 3", "seed": 3, "grid": [96, 48, 48],
-                         "objective": -0.31, "wall_time": 5400, "date": "2026-11-30"}
+          "params": {
+            "amplitude[tail1]": 0.3, "amplitude[tail2]": 0.6, "amplitude[leg_l]": 0.4,
+            "phase[tail1]": 0.0, "phase[tail2]": -1.2, "phase[leg_l]": 1.5
+          },
+          "provenance": {
+            "method": "optimized",
+            "command": "aquagait optimize newt.xml --generations 100 --seed 3",
+            "seed": 3, "grid": [96, 48, 48], "objective": -0.31, "wall_time": 5400,
+            "date": "2026-11-30"
+          }
         }
       }
     }
+
+The eel's (``eel2d.aquagait.json``) states its DOFs, period, offset, PD gains,
+grid and hand-set gait, and leaves the amplitude bounds (its joint limits) and
+the energy bound to the defaults.
 
 The entries (units: rad, s, m, J; the paper's gait is
 ``qbar_i(t) = a_i sin(2 pi t / T_i + phi_i) + c_i``, ``aquagait.control.gait``):
@@ -42,8 +52,8 @@ The entries (units: rad, s, m, J; the paper's gait is
 - ``gait.free``: the kinds CMA-ES optimizes, of amplitude, phase, period,
   offset. Default ``["amplitude", "phase"]``.
 - ``gait.amplitude``, ``phase``, ``period``, ``offset``: the values of kinds
-  that are not free (defaults 0, 0, 1 s, 0); a free kind's value is the
-  default gait's (the period's also sets the energy bound's ``T``).
+  that are not free (defaults 0, 0, 1 s, 0). A free period or offset starts
+  the default gait at its value; the period is also the energy bound's ``T``.
 - ``gait.shared``: free kinds that are one number for every DOF.
 - ``gait.mirror``: ``[dof, source, sign]`` triples, ``qbar_dof = sign * qbar_source``
   (sign +1 or -1): symmetric limbs share parameters.
@@ -51,7 +61,9 @@ The entries (units: rad, s, m, J; the paper's gait is
 - ``gait.bounds``: ``{"kind": [lo, hi]}`` or ``{"kind[dof]": [lo, hi]}``: search
   bounds; a kind's bound replaces every default bound of that kind, a
   ``kind[dof]`` bound overrides it for one parameter. Defaults: amplitude
-  [0, the joint limit] per DOF, phase [-pi, pi] (``defaults``).
+  [0, the joint limit] per DOF (the smaller side of an asymmetric one; with a
+  free offset, the half-range, and the offset the range), phase [-pi, pi],
+  period [0.5, 2] s (``defaults``, ``aquagait.control.gait.DEFAULT_BOUNDS``).
 - ``pd.natural_frequency`` [rad/s] (> 0) and ``pd.damping_ratio`` (>= 0): the
   servo gains (``aquagait.control.pd``). Defaults 100 and 1.5.
 - ``grid.resolution`` (cells per axis, one per dimension) and ``grid.cell_size``
@@ -63,18 +75,21 @@ The entries (units: rad, s, m, J; the paper's gait is
   gait (later: manoeuvres such as ``turn-left``). ``params`` is the parameter
   vector, either by name (``{"amplitude[j1]": 0.25, ...}``, exactly the gait's
   parameter names) or as a list in their order (``GaitSpec.names``: for each
-  free kind, one entry if shared, else one per DOF that is not mirrored);
+  free kind, one entry if shared, else one per DOF that is not mirrored;
+  every shipped gait is checked against this one parameterization);
   ``provenance`` is a free-form record of how it was made: ``method``
   ('hand-set' or 'optimized'), ``command``, ``seed``, ``grid``, ``objective``,
   ``wall_time`` [s], ``date``, anything else worth keeping.
 
-Every problem is reported at once, in one ``CreatureError`` naming the file,
+Problems are reported together, in one ``CreatureError`` naming the file,
 the JSON path of each bad entry (``gait.mirror[0][2]``,
 ``gaits.straight.params["amplitude[j1]"]``), what is wrong and what would be
 right: unknown keys (with the known ones), wrong types and shapes, DOFs that
 are not actuated DOFs of the model (a side-car for another creature), a grid
 too small for the body, a shipped gait of the wrong length or outside its
-bounds or the joint limits.
+bounds or the joint limits. Shapes and types are checked first, all of them;
+once they are right, the fit to the model (the DOFs first: a wrong one leaves
+nothing else to check against).
 """
 
 from __future__ import annotations
@@ -295,11 +310,13 @@ def _bounds(model, g, dofs, free, shared, notes) -> dict:
     """Default bounds of the free kinds, overridden by the metadata's (module doc)."""
     given = g.get("bounds", {})
     bounds = {}
-    if "amplitude" in free and "amplitude" not in given:
-        bounds = defaults.amplitude_bounds(
+    from_limits = [k for k in ("amplitude", "offset") if k in free and k not in given]
+    if from_limits:
+        limits = defaults.amplitude_bounds(
             model, dofs, g.get("mirror", ()), free, shared, g.get("offset", 0.0)
         )
-        notes.append(f"amplitude bounds from the joint limits: {_show(bounds)}")
+        bounds = {k: v for k, v in limits.items() if k.partition("[")[0] in from_limits}
+        notes.append(f"bounds from the joint limits: {_show(bounds)}")
     if "phase" in free:
         bounds["phase"] = (-math.pi, math.pi)
     for key, value in sorted(given.items(), key=lambda kv: "[" in kv[0]):  # kinds first
