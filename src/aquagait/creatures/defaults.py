@@ -17,7 +17,7 @@
   2.5, 3, 4, 5, 6 or 8 times a power of ten: the thinnest link is then two to
   2.7 cells thick and survives voxelization. Kept between L/20 (a coarser grid
   would not resolve the body at all) and L/100 in 2D or L/40 in 3D (at most
-  about 256 x 128 or 112 x 56 x 56 cells: finer costs more than an
+  about 256 x 128 or 112 x 64 x 64 cells: finer costs more than an
   optimization can pay; the note then says how thin the thinnest link is in
   cells, and ``aquagait check`` shows it).
 - **Grid**: 2.5 body lengths along the body's longest axis and 1.25 across,

@@ -186,49 +186,14 @@ def build_creature(model: Model, meta: Metadata, name: str) -> Creature:
     """
     notes = [] if meta.path else [f"no metadata ({Path(model.source).stem}{SUFFIX}): defaults"]
     spec, problems = _gait_spec(model, meta, notes)
-    if spec is None:
-        _raise(meta.path, problems)
-    cell_size = meta.grid.get("cell_size")
-    if cell_size is None:
-        cell_size, note = defaults.cell_size(model)
-        notes.append(note)
-    resolution = meta.grid.get("resolution")
-    if resolution is None:
-        resolution, note = defaults.resolution(model, cell_size)
-        notes.append(note)
-    problems += _grid_problems(model, resolution, cell_size)
-    gaits = {}
-    for gait_name, entry in meta.gaits.items():
-        where = at(at("gaits", gait_name), "params")
-        x, wrong = _params(spec, entry["params"], where)
-        if not wrong:
-            limits = dof_limits(model, spec.dofs)
-            wrong = [f"{where}: the gait {p}" for p in gait_problems(spec, x, *limits)]
-        problems += wrong
-        gaits[gait_name] = ShippedGait(x, entry["provenance"])
     _raise(meta.path, problems)
-    if "straight" in gaits:
-        default_gait = gaits["straight"].params
-    else:
-        default_gait = defaults.gait_vector(spec)
-        notes.append(
-            f"no shipped gait: a travelling wave, amplitude up to {defaults.WAVE_AMPLITUDE:g} "
-            f"rad, {defaults.WAVE_LAG:g} rad of phase lag per joint"
-        )
-        wrong = gait_problems(spec, default_gait, *dof_limits(model, spec.dofs))
-        if wrong:
-            _raise(meta.path, [f"gait: the default gait {wrong[0]}; ship a 'straight' gait"])
-    energy_bound = meta.energy_bound
-    if energy_bound is None:
-        energy_bound = defaults.energy_bound(model, spec.period)
-        notes.append(
-            f"energy bound {defaults.ENERGY_COEFFICIENT:g} m (L/T)^2 = {energy_bound:.3g} J "
-            "over two cycles"
-        )
+    resolution, cell_size, problems = _grid(model, meta, notes)
+    gaits, wrong = _shipped_gaits(model, spec, meta)
+    _raise(meta.path, problems + wrong)
     pd = {"natural_frequency": defaults.NATURAL_FREQUENCY, "damping_ratio": defaults.DAMPING_RATIO}
     if set(pd) - set(meta.pd):
         notes.append(
-            f"PD gains: w = {pd['natural_frequency']:g} rad/s, zeta = "
+            f"PD gains w = {pd['natural_frequency']:g} rad/s, zeta = "
             f"{pd['damping_ratio']:g} where not given"
         )
     pd |= dict(meta.pd)
@@ -236,10 +201,10 @@ def build_creature(model: Model, meta: Metadata, name: str) -> Creature:
         name=name,
         model=model,
         gait=spec,
-        default_gait=default_gait,
-        resolution=tuple(resolution),
-        cell_size=float(cell_size),
-        energy_bound=float(energy_bound),
+        default_gait=_default_gait(model, spec, meta, gaits, notes),
+        resolution=resolution,
+        cell_size=cell_size,
+        energy_bound=_energy_bound(model, spec, meta, notes),
         natural_frequency=float(pd["natural_frequency"]),
         damping_ratio=float(pd["damping_ratio"]),
         description=meta.description or _description(model),
@@ -248,6 +213,59 @@ def build_creature(model: Model, meta: Metadata, name: str) -> Creature:
         gaits=gaits,
         notes=tuple(notes),
     )
+
+
+def _grid(model: Model, meta: Metadata, notes: list) -> tuple[tuple, float, list]:
+    """The default grid and cell size: stated, else from the model; and what is wrong."""
+    cell_size = meta.grid.get("cell_size")
+    if cell_size is None:
+        cell_size, note = defaults.cell_size(model)
+        notes.append(note)
+    resolution = meta.grid.get("resolution")
+    if resolution is None:
+        resolution, note = defaults.resolution(model, cell_size)
+        notes.append(note)
+    return tuple(resolution), float(cell_size), _grid_problems(model, resolution, cell_size)
+
+
+def _shipped_gaits(model: Model, spec: GaitSpec, meta: Metadata) -> tuple[dict, list]:
+    """The shipped gaits as vectors, and what is wrong with them."""
+    gaits, problems = {}, []
+    limits = dof_limits(model, spec.dofs)
+    for name, entry in meta.gaits.items():
+        where = at(at("gaits", name), "params")
+        x, wrong = _params(spec, entry["params"], where)
+        if not wrong:
+            wrong = [f"{where}: the gait {p}" for p in gait_problems(spec, x, *limits)]
+        problems += wrong
+        gaits[name] = ShippedGait(x, entry["provenance"])
+    return gaits, problems
+
+
+def _default_gait(model, spec, meta, gaits, notes) -> np.ndarray:
+    """The shipped straight gait, else a small travelling wave (``defaults.gait_vector``)."""
+    if "straight" in gaits:
+        return gaits["straight"].params
+    x = defaults.gait_vector(spec)
+    notes.append(
+        f"no shipped gait: a travelling wave, amplitude up to {defaults.WAVE_AMPLITUDE:g} rad, "
+        f"{defaults.WAVE_LAG:g} rad of phase lag per joint"
+    )
+    wrong = gait_problems(spec, x, *dof_limits(model, spec.dofs))
+    if wrong:
+        _raise(meta.path, [f"gait: the default gait {wrong[0]}; ship a 'straight' gait"])
+    return x
+
+
+def _energy_bound(model, spec, meta, notes) -> float:
+    """The stated energy bound, else ``defaults.energy_bound`` at the gait's period."""
+    if meta.energy_bound is not None:
+        return meta.energy_bound
+    bound = defaults.energy_bound(model, spec.period)
+    notes.append(
+        f"energy bound {defaults.ENERGY_COEFFICIENT:g} m (L/T)^2 = {bound:.3g} J over two cycles"
+    )
+    return bound
 
 
 # --- the gait ------------------------------------------------------------------
