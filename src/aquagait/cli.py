@@ -13,6 +13,8 @@ import aquagait
 from aquagait.bench import BENCHMARKS
 from aquagait.sim import FLUIDS
 
+NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF file"
+
 
 def _cmd_bench(args) -> int:
     from aquagait.bench import run_benchmark
@@ -28,6 +30,22 @@ def _cmd_creatures(args) -> int:
     return 0
 
 
+def _cmd_check(args) -> int:
+    from aquagait.app import SetupError, output_directory, prepare_check
+    from aquagait.app.check import format_check, run_check, write_check
+
+    try:
+        setup = prepare_check(args.name)
+        out = output_directory(args.out or Path("runs") / f"{setup.creature.name}-check")
+    except SetupError as err:
+        return _fail("check", err, status=2)
+    report = run_check(setup)
+    write_check(report, out, picture=not args.no_picture)
+    files = ["check.txt", "check.json"] + ["voxels.png"] * (not args.no_picture)
+    print(f"{format_check(report)}\n\nwrote {out}/: {', '.join(files)}")
+    return 0
+
+
 def _cmd_swim(args) -> int:
     from aquagait.app import SetupError, output_directory, prepare_swim
 
@@ -40,7 +58,7 @@ def _cmd_swim(args) -> int:
             resolution=args.resolution,
             cell_size=args.cell_size,
         )
-        out = output_directory(args.out or Path("runs") / args.name)
+        out = output_directory(args.out or Path("runs") / setup.creature.name)
     except SetupError as err:
         return _fail("swim", err, status=2)
     return _swim_and_write(setup, out, not args.no_video)
@@ -72,7 +90,7 @@ def _cmd_optimize(args) -> int:
             resolution=args.resolution,
             cell_size=args.cell_size,
         )
-        out = output_directory(args.out or Path("runs") / args.name)
+        out = output_directory(args.out or Path("runs") / setup.creature.name)
     except SetupError as err:
         return _fail("optimize", err, status=2)
     return _optimize_and_swim(setup, out, args, video=not args.no_video)
@@ -137,11 +155,13 @@ def _cmd_demo(args) -> int:
 def _cmd_compare(args) -> int:
     from aquagait.app import SetupError, output_directory
     from aquagait.app.compare import cross_optimize, forward_distance, swim_both, write_compare
+    from aquagait.app.resolve import find_creature
     from aquagait.sim import SimulationError
 
     grid = dict(resolution=args.resolution, cell_size=args.cell_size)
     try:
-        out = output_directory(args.out or Path("runs") / f"{args.name}-compare")
+        name = find_creature(args.name).name
+        out = output_directory(args.out or Path("runs") / f"{name}-compare")
         runs = swim_both(args.name, args.gait, args.seconds, progress=_fluid_bar(), **grid)
     except SetupError as err:
         return _fail("compare", err, status=2)
@@ -259,10 +279,20 @@ def build_parser() -> argparse.ArgumentParser:
     creatures = commands.add_parser("creatures", help="list the creature library")
     creatures.set_defaults(run=_cmd_creatures)
 
+    check = commands.add_parser(
+        "check", help="a creature's table and its voxels on the default grid; thin-link warnings"
+    )
+    check.add_argument(
+        "name", metavar="NAME|PATH", help="a library creature (aquagait creatures) or an MJCF file"
+    )
+    check.add_argument("--out", metavar="DIR", help="directory (default: runs/NAME-check)")
+    check.add_argument("--no-picture", action="store_true", help="skip voxels.png")
+    check.set_defaults(run=_cmd_check)
+
     swim = commands.add_parser(
         "swim", help="swim a creature with a gait; write trajectory, metrics and video"
     )
-    swim.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
+    swim.add_argument("name", metavar="NAME", help=NAME_HELP)
     swim.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
     swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
     swim.add_argument("--fluid", choices=list(FLUIDS), default="euler")
@@ -281,7 +311,7 @@ def build_parser() -> argparse.ArgumentParser:
     optimize = commands.add_parser(
         "optimize", help="find a gait with CMA-ES; write gait.json, the log and the best swim"
     )
-    optimize.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
+    optimize.add_argument("name", metavar="NAME", help=NAME_HELP)
     optimize.add_argument("--generations", type=int, default=100, help="CMA-ES generations")
     optimize.add_argument("--popsize", type=int, help="samples per generation (2D 16, 3D 31)")
     _add_evaluator_flags(optimize)
@@ -297,7 +327,7 @@ def build_parser() -> argparse.ArgumentParser:
     compare = commands.add_parser(
         "compare", help="one gait in the Euler and the simple fluid: distances, plot, video"
     )
-    compare.add_argument("name", metavar="NAME", help="library creature (see: aquagait creatures)")
+    compare.add_argument("name", metavar="NAME", help=NAME_HELP)
     compare.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
     compare.add_argument("--seconds", type=float, default=3.0, help="simulated time [s]")
     compare.add_argument("--optimize", type=int, default=0, metavar="G",

@@ -33,8 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
-from aquagait import creatures
 from aquagait.app.errors import SetupError
+from aquagait.app.resolve import creature_key, find_creature
 from aquagait.body.dynamics import describe, mesh_faces
 from aquagait.body.shape import BodyShape, body_shape, link_thickness
 from aquagait.body.voxelize import Voxels, voxelize
@@ -111,25 +111,18 @@ def prepare_check(name_or_path) -> CheckSetup:
         CheckSetupError: an unknown name, or a file that is not a usable creature
             (the message says what is wrong and what would be right).
     """
-    creature = name_or_path if isinstance(name_or_path, Creature) else _resolve(name_or_path)
+    if isinstance(name_or_path, Creature):
+        creature = name_or_path
+    else:
+        try:
+            creature = find_creature(name_or_path)
+        except SetupError as err:
+            raise CheckSetupError(str(err)) from None
     try:
         scene = make_scene(creature, fluid="none")
     except ValueError as err:
         raise CheckSetupError(f"{creature.name}: {err}") from None
     return CheckSetup(creature, scene)
-
-
-def _is_library(creature: Creature) -> bool:
-    known = creature.name in creatures.names()
-    return known and creatures.get(creature.name) is creature
-
-
-def _resolve(name_or_path) -> Creature:
-    find = getattr(creatures, "resolve", creatures.get)  # resolve: NAME or PATH (issue 11)
-    try:
-        return find(name_or_path)
-    except (KeyError, ValueError, OSError) as err:
-        raise CheckSetupError(str(err)) from None
 
 
 def run_check(setup: CheckSetup) -> CheckReport:
@@ -153,7 +146,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "creature": creature.name,
         "description": creature.description,
         "source": str(model.source),
-        "library": _is_library(creature),
+        "library": creature_key(creature) == creature.name,
         "dim": model.dim,
         "depth": model.depth,
         "mass": float(model.mass),

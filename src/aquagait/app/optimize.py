@@ -25,6 +25,7 @@ import numpy as np
 
 from aquagait import creatures, objectives
 from aquagait.app.errors import SetupError
+from aquagait.app.resolve import creature_key, find_creature
 from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
 from aquagait.io.gait import write_gait
@@ -49,7 +50,8 @@ class SwimObjective:
     """``evaluate(params) -> float``: the objective ``E`` of swimming a gait (picklable).
 
     Attributes:
-        creature: library creature name (workers look it up by name).
+        creature: a library creature's name or the absolute path of its MJCF
+            file (``aquagait.app.resolve.creature_key``: workers find it by this).
         resolution: grid cells per axis, or None for the creature's default.
         cell_size: h [m], or None for the creature's default.
         fluid: 'euler', 'simple' (drag only), or 'none' (vacuum, to test the machinery).
@@ -75,7 +77,7 @@ class SwimObjective:
 
 @functools.lru_cache(maxsize=4)
 def _scene(name: str, resolution, cell_size, fluid: str) -> tuple[Creature, Scene]:
-    creature = creatures.get(name)
+    creature = creatures.resolve(name)
     return creature, make_scene(creature, resolution, cell_size, fluid=fluid)
 
 
@@ -86,7 +88,7 @@ class JointLimits:
     creature: str
 
     def __call__(self, params) -> bool:
-        creature = creatures.get(self.creature)
+        creature = creatures.resolve(self.creature)
         return not creature.gait.limit_violations(params, *creature.gait_limits())
 
 
@@ -133,7 +135,7 @@ def prepare_optimization(
     """Resolve and check an optimization of a library creature's gait.
 
     Args:
-        name: creature name (``aquagait creatures``).
+        name: a library creature (``aquagait creatures``) or the path of an MJCF file.
         generations: CMA-ES generations (per group, for grouped gaits).
         popsize: samples per generation; default 16 in 2D, 31 in 3D.
         seed: random seed: the same seed gives the same gait, serial or parallel.
@@ -144,9 +146,11 @@ def prepare_optimization(
         OptimizationSetupError: with what was wrong and what would be right.
     """
     try:
-        creature = creatures.get(name)
-    except KeyError as err:
+        creature = find_creature(name)
+    except SetupError as err:
         raise OptimizationSetupError(str(err)) from None
+    key = creature_key(creature)  # what workers resolve
+    name = creature.name
     if generations < 1:
         raise OptimizationSetupError(f"generations must be at least 1, got {generations}")
     popsize = POPULATION[creature.dim] if popsize is None else popsize
@@ -158,14 +162,14 @@ def prepare_optimization(
             f"got {list(resolution)}"
         )
     try:  # build the scene now, so a bad grid fails before any worker starts
-        _scene(name, _tuple(resolution), cell_size, fluid)
+        _scene(key, _tuple(resolution), cell_size, fluid)
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     gait = creature.gait
     period = float(np.max(gait.unpack(creature.default_gait).period))
     direction = (1.0,) + (0.0,) * (creature.dim - 1)
     seconds = cycles * period
-    objective = SwimObjective(name, _tuple(resolution), cell_size, fluid, seconds, direction)
+    objective = SwimObjective(key, _tuple(resolution), cell_size, fluid, seconds, direction)
     groups = gait.groups or ()
     problem = Problem(
         objective=objective,
@@ -173,7 +177,7 @@ def prepare_optimization(
         lower=gait.lower,
         upper=gait.upper,
         sigma0=None,  # a quarter of every parameter's range
-        feasible=JointLimits(name),
+        feasible=JointLimits(key),
         groups=tuple(gait.group_indices(k) for k in range(len(groups))) if len(groups) > 1 else (),
         names=gait.names,
     )
@@ -225,7 +229,7 @@ def best_swim(
         (None, None) if default_grid else (objective.resolution, objective.cell_size)
     )
     return prepare_swim(
-        setup.creature.name, gait=Path(out) / "gait.json", seconds=seconds or objective.seconds,
+        objective.creature, gait=Path(out) / "gait.json", seconds=seconds or objective.seconds,
         fluid=objective.fluid, resolution=resolution, cell_size=cell_size,
     )  # fmt: skip
 

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from aquagait import creatures
 from aquagait.app.errors import SetupError
+from aquagait.app.resolve import creature_key, find_creature
 from aquagait.creatures import Creature
 from aquagait.io.gait import GaitFileError, read_gait, write_gait
 from aquagait.io.run import library_versions, read_json, write_json, write_run
@@ -88,7 +88,8 @@ def prepare_swim(
     """Resolve a swim's settings: creature, gait, scene.
 
     Args:
-        name: a library creature (``aquagait.creatures.names()``).
+        name: a library creature (``aquagait.creatures.names()``) or the path
+            of an MJCF file (with its ``.aquagait.json`` side-car, if any).
         gait: a ``gait.json`` path, a parameter vector, or None for the
             creature's default gait.
         seconds: simulated time [s], > 0.
@@ -102,8 +103,8 @@ def prepare_swim(
         SwimSetupError: the message says which setting is wrong and what would be right.
     """
     try:
-        creature = creatures.get(name)
-    except creatures.UnknownCreatureError as err:
+        creature = find_creature(name)
+    except SetupError as err:
         raise SwimSetupError(str(err)) from None
     if isinstance(gait, str | Path):
         try:
@@ -160,6 +161,7 @@ def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
     return {
         "command": "swim",
         "creature": creature.name,
+        "creature_source": creature_key(creature),
         "dim": creature.dim,
         "gait": {
             "source": setup.gait_source,

@@ -1,0 +1,69 @@
+"""NAME or PATH: a user's MJCF file works in swim, optimize and compare, end to end."""
+
+import json
+
+import pytest
+
+from aquagait.cli import main
+
+SWIMMER = """<mujoco model="three-link swimmer">
+  <custom><numeric name="aquagait_depth" data="0.02"/></custom>
+  <worldbody>
+    <body name="head">
+      <joint name="x" type="slide" axis="1 0 0"/><joint name="y" type="slide" axis="0 1 0"/>
+      <joint name="yaw" type="hinge" axis="0 0 1"/>
+      <geom type="box" size=".05 .012 .01" density="1000"/>
+      <body name="middle" pos="-.05 0 0">
+        <joint name="j1" type="hinge" axis="0 0 1" range="-60 60"/>
+        <geom type="box" size=".05 .01 .01" pos="-.05 0 0" density="1000"/>
+        <body name="tail" pos="-.1 0 0">
+          <joint name="j2" type="hinge" axis="0 0 1" range="-60 60"/>
+          <geom type="box" size=".05 .008 .01" pos="-.05 0 0" density="1000"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+GRID = ["--resolution", "56", "24", "--cell-size", "0.01"]
+
+
+@pytest.fixture(scope="module")
+def swimmer(tmp_path_factory):
+    path = tmp_path_factory.mktemp("mine") / "swimmer.xml"
+    path.write_text(SWIMMER)
+    return path
+
+
+def test_swim_takes_a_path(swimmer, tmp_path):
+    out = tmp_path / "swim"
+    argv = ["swim", str(swimmer), "--seconds", "0.2", *GRID, "--out", str(out), "--no-video"]
+    assert main(argv) == 0
+    config = json.loads((out / "config.json").read_text())
+    assert config["creature"] == "swimmer"
+    assert config["creature_source"] == str(swimmer.resolve())
+    assert json.loads((out / "gait.json").read_text())["creature"] == "swimmer"
+
+
+def test_optimize_takes_a_path_and_its_worker_processes_find_the_file(swimmer, tmp_path):
+    out = tmp_path / "optimize"
+    argv = ["optimize", str(swimmer), "--generations", "1", "--popsize", "2", "--workers", "2"]
+    assert main([*argv, *GRID, "--out", str(out), "--no-video"]) == 0
+    log = (out / "optimization.csv").read_text().splitlines()
+    assert len(log) == 2 and (out / "gait.json").is_file()
+    failures = (out / "failures.csv").read_text().splitlines()
+    assert len(failures) == 1, failures  # the header only: every worker found the creature
+
+
+def test_compare_takes_a_path(swimmer, tmp_path):
+    out = tmp_path / "compare"
+    argv = ["compare", str(swimmer), "--seconds", "0.2", *GRID, "--out", str(out), "--no-video"]
+    assert main(argv) == 0
+    assert set(json.loads((out / "compare.json").read_text())["swims"]) == {"euler", "simple"}
+
+
+def test_a_path_that_is_not_there_is_one_line_and_status_2(tmp_path, capsys):
+    assert main(["swim", str(tmp_path / "nothing.xml"), "--out", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("aquagait swim: error: ") and "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1 and "nothing.xml" in err
