@@ -67,3 +67,27 @@ def test_a_path_that_is_not_there_is_one_line_and_status_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith("aquagait swim: error: ") and "Traceback" not in err
     assert len(err.strip().splitlines()) == 1 and "nothing.xml" in err
+
+
+@pytest.mark.parametrize(
+    "files,message",
+    [
+        ({"swimmer.xml": "not xml at all"}, "swimmer.xml"),
+        ({"swimmer.xml": SWIMMER.replace(' range="-60 60"', "")}, 'add range="lo hi"'),
+        (
+            {"swimmer.xml": SWIMMER, "swimmer.aquagait.json": '{"gait": {"dofs": "j1"}}'},
+            "gait.dofs",
+        ),
+        ({"swimmer.xml": SWIMMER, "swimmer.aquagait.json": "{"}, "swimmer.aquagait.json"),
+    ],
+    ids=["not-xml", "unlimited-joints", "metadata-shape", "metadata-not-json"],
+)
+def test_a_bad_file_is_a_message_and_status_2_in_every_command(tmp_path, capsys, files, message):
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    path = str(tmp_path / "swimmer.xml")
+    for command in (["swim", path], ["optimize", path], ["compare", path], ["check", path]):
+        assert main([*command, "--out", str(tmp_path / "out")]) == 2, command
+        err = capsys.readouterr().err
+        assert err.startswith(f"aquagait {command[0]}: error: ") and message in err, err
+        assert "Traceback" not in err
