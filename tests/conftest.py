@@ -25,3 +25,21 @@ def two_links() -> str:
 def eel():
     """The library's eel2d creature."""
     return ag.creatures.get("eel2d")
+
+
+# A planar body: a 40 mm wide block and behind it a fin plate 2 mm thick, a fifth of a
+# 10 mm cell: on cells centred on y = +-5 mm the fin holds no cell centre at all.
+FIN_PLATE = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
+  <worldbody><body name="block">
+    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
+    <joint type="hinge" axis="0 0 1"/>
+    <geom type="box" size=".05 .02 .02" density="1000"/>
+    <body name="fin" pos="-.05 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-30 30"/>
+      <geom type="box" size=".05 .001 .02" pos="-.05 0 0" density="1000"/></body>
+  </body></worldbody></mujoco>"""
+
+
+@pytest.fixture
+def fin_plate() -> str:
+    """MJCF text of the block with a 2 mm fin."""
+    return FIN_PLATE

@@ -12,19 +12,9 @@ from aquagait.control.gait import GaitSpec
 from aquagait.creatures import Creature
 from aquagait.io.run import read_json
 
-# A planar body: a 40 mm wide block and behind it a fin plate 2 mm thick (a fifth of a 10 mm cell).
-PLATE = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
-  <worldbody><body name="block">
-    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
-    <joint type="hinge" axis="0 0 1"/>
-    <geom type="box" size=".05 .02 .02" density="1000"/>
-    <body name="fin" pos="-.05 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-30 30"/>
-      <geom type="box" size=".05 .001 .02" pos="-.05 0 0" density="1000"/></body>
-  </body></worldbody></mujoco>"""
 
-
-def plate_creature() -> Creature:
-    model = ag.load_model(PLATE)
+def plate_creature(xml: str) -> Creature:
+    model = ag.load_model(xml)
     gait = GaitSpec(dofs=("j",), bounds={"amplitude": (0.0, 0.5)})
     return Creature("plate", model, gait, [0.2, 0.0], (48, 32), 0.01, energy_bound=0.1)
 
@@ -51,12 +41,12 @@ def test_the_eels_table_names_every_link_with_its_mass_and_thickness_in_cells(ee
     assert "holds the body with 8 cells" in table
 
 
-def test_volumes_come_from_the_geoms_and_give_water_density(eel_report, fish_report):
+def test_volumes_come_from_the_geoms_and_give_water_density(eel_report, fish_report, fin_plate):
     # The library's geoms carry water density; a box of 0.1 x 0.004 x 0.04 m holds 16 cm^3.
     for report in (eel_report, fish_report):
         densities = [row["density"] for row in report.numbers["links"]]
         np.testing.assert_allclose(densities, 1000.0, rtol=1e-6)
-    volume = link_volumes(ag.load_model(PLATE))
+    volume = link_volumes(ag.load_model(fin_plate))
     np.testing.assert_allclose(volume, [0.1 * 0.04 * 0.04, 0.1 * 0.002 * 0.04], rtol=1e-12)
 
 
@@ -70,9 +60,9 @@ def test_the_fishs_caudal_fin_is_warned_about_and_the_eels_trunk_is_not(eel_repo
     assert "WARNINGS:" in format_check(fish_report)
 
 
-def test_a_plate_thinner_than_the_samples_is_measured_finer_and_warned_about():
+def test_a_plate_thinner_than_the_samples_is_measured_finer_and_warned_about(fin_plate):
     # At h / 4 = 2.5 mm no sample lies inside the 2 mm plate: it is baked again, finer.
-    report = run_check(prepare_check(plate_creature()))
+    report = run_check(prepare_check(plate_creature(fin_plate)))
     fin = report.numbers["links"][1]
     assert report.shape.spacing < 0.002 / 3
     assert 0.002 - report.shape.spacing <= fin["thickness"] <= 0.002
@@ -117,9 +107,9 @@ def test_the_command_prints_the_table_and_writes_the_files(capsys, tmp_path):
     not hasattr(creatures, "resolve"),
     reason="creatures.resolve (NAME or PATH, issue 11) has not landed: check takes names only",
 )
-def test_a_path_to_an_mjcf_file_is_checked(tmp_path):
+def test_a_path_to_an_mjcf_file_is_checked(tmp_path, fin_plate):
     path = tmp_path / "plate.xml"
-    path.write_text(PLATE)
+    path.write_text(fin_plate)
     report = run_check(prepare_check(str(path)))
     assert str(path) in report.numbers["source"] and not report.numbers["library"]
     assert [row["name"] for row in report.numbers["links"]] == ["block", "fin"]

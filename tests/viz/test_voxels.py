@@ -11,17 +11,6 @@ from aquagait.grid import Grid
 from aquagait.viz import plot_voxels
 from aquagait.viz.voxels import _colours, _tint
 
-# A 40 mm wide block with a 2 mm plate behind it: on 10 mm cells centred on y = +-5 mm the
-# plate holds no cell centre, so it shows as an outline with no cells under it.
-PLATE = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom>
-  <worldbody><body name="block">
-    <joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
-    <joint type="hinge" axis="0 0 1"/>
-    <geom type="box" size=".05 .02 .02" density="1000"/>
-    <body name="fin" pos="-.05 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-30 30"/>
-      <geom type="box" size=".05 .001 .02" pos="-.05 0 0" density="1000"/></body>
-  </body></worldbody></mujoco>"""
-
 BALL_AND_TAIL = """<mujoco><worldbody><body name="ball"><freejoint/>
     <geom type="sphere" size=".03" density="1000"/>
     <body name="tail" pos="-.03 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-30 30"/>
@@ -46,8 +35,8 @@ def pixels_of(picture, colour) -> int:
     return int(np.count_nonzero(np.abs(picture - colour).max(axis=-1) < 2.5 / 255))
 
 
-def test_cells_are_tinted_per_link_and_an_unresolved_plate_is_an_outline_only(tmp_path):
-    picture, voxels = draw(PLATE, (40, 20), tmp_path / "plate.png")
+def test_cells_are_tinted_per_link_and_an_unresolved_plate_is_an_outline_only(tmp_path, fin_plate):
+    picture, voxels = draw(fin_plate, (40, 20), tmp_path / "plate.png")
     block, fin = _colours(2)
     assert np.count_nonzero(voxels.owner == 0) == 40 and np.count_nonzero(voxels.owner == 1) == 0
     assert pixels_of(picture, _tint(block)) > 1000
