@@ -6,7 +6,8 @@ import pytest
 import aquagait as ag
 from aquagait import creatures
 from aquagait.app import CheckSetupError, format_check, prepare_check, run_check, write_check
-from aquagait.app.check import link_volumes, read_check
+from aquagait.app.check import read_check
+from aquagait.body.geometry import link_volumes
 from aquagait.cli import main
 from aquagait.control.gait import GaitSpec
 from aquagait.creatures import Creature

@@ -33,9 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
+from aquagait.app.check_text import format_check, mm
 from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature
-from aquagait.body.dynamics import describe, mesh_faces
+from aquagait.body.geometry import link_volumes
 from aquagait.body.shape import BodyShape, body_shape, link_thickness
 from aquagait.body.voxelize import Voxels, voxelize
 from aquagait.control.pd import gains
@@ -44,8 +45,6 @@ from aquagait.grid import Grid
 from aquagait.io.run import read_json, write_json
 from aquagait.sim import CLEARANCE, Scene, make_scene
 from aquagait.sim.follow import room
-
-UNITS = {"amplitude": "rad", "phase": "rad", "period": "s", "offset": "rad"}
 
 THIN_CELLS = 2.0
 """A link should be at least this many cells thick (DESIGN.md §2.8)."""
@@ -221,37 +220,6 @@ def _links(creature: Creature, shape: BodyShape, voxels: Voxels) -> list[dict]:
     return rows
 
 
-def link_volumes(model) -> np.ndarray:
-    """Each link's volume, the sum of its geoms' volumes, (nl,) [m^3].
-
-    Overlapping geoms count twice, as in MuJoCo's mass, so ``link_mass /
-    volume`` is the geoms' density. In 2D every geom is a z-prism of the
-    model's depth, so this is the prism's volume.
-    """
-    facts, faces = describe(model.mj), mesh_faces(model.mj)
-    out = np.zeros(len(facts.link_names))
-    for g, kind in enumerate(facts.geom_kind):
-        out[facts.geom_link[g]] += _geom_volume(kind, facts.geom_size[g],
-                                                facts.geom_vertices[g], faces[g])  # fmt: skip
-    return out
-
-
-def _geom_volume(kind: str, size, vertices, faces) -> float:
-    """The volume of one MuJoCo geom [m^3]."""
-    r = size[0]
-    if kind == "mesh":  # divergence theorem; faces wind outward
-        a, b, c = (vertices[faces[:, i]] for i in range(3))
-        return abs(float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum())) / 6
-    volumes = {
-        "box": lambda: 8 * size[0] * size[1] * size[2],
-        "sphere": lambda: 4 / 3 * math.pi * r**3,
-        "ellipsoid": lambda: 4 / 3 * math.pi * size[0] * size[1] * size[2],
-        "capsule": lambda: math.pi * r**2 * (2 * size[1] + 4 / 3 * r),
-        "cylinder": lambda: math.pi * r**2 * 2 * size[1],
-    }
-    return float(volumes[kind]())
-
-
 def _thinnest(links: list[dict]) -> dict | None:
     solid = [row for row in links if row["volume"] > 0]
     if not solid:
@@ -344,141 +312,21 @@ def _thin_warning(row: dict, shape: BodyShape, k: int, grid: dict) -> str:
     if t < s:  # below what the samples resolve: the box's thinnest side bounds it
         sides = np.asarray(row["size"])[: shape.dim]
         t = float(sides.min())
-        measured = f"thinner than the {_mm(s)} signed-distance spacing (its box: {_mm(t)})"
+        measured = f"thinner than the {mm(s)} signed-distance spacing (its box: {mm(t)})"
     else:
-        measured = f"{_mm(t)} thick, {t / h:.2f} cells of {_mm(h)}"
+        measured = f"{mm(t)} thick, {t / h:.2f} cells of {mm(h)}"
     finer = t / THIN_CELLS
     # thickness is sampled in float32: round a hair down before ceil (128.000003 -> 128)
     cells = "x".join(str(math.ceil(n * h / finer * (1 - 1e-6))) for n in grid["resolution"])
     return (
         f"link {row['name']!r} is {measured}: thinner than about two cells, it will flicker in "
         f"and out of the solid as it moves ({row['solid_cells']} solid cells at the reference "
-        f"pose); cells of {_mm(finer)} or less keep it two cells thick ({cells} cells for the "
+        f"pose); cells of {mm(finer)} or less keep it two cells thick ({cells} cells for the "
         "same grid extent)"
     )
 
 
-def _mm(metres: float) -> str:
-    return f"{metres * 1000:.3g} mm"
-
-
 # --- the table and the files --------------------------------------------------------
-
-
-def format_check(report: CheckReport) -> str:
-    """The check as text for people: the tables, the notes and the warnings."""
-    n = report.numbers
-    sections = [
-        _heading(n),
-        _link_table(n),
-        _dof_table(n),
-        _gait_table(n),
-        _grid_lines(n),
-        _notes(n),
-    ]
-    return "\n\n".join(s for s in sections if s)
-
-
-def _heading(n: dict) -> str:
-    body = f"{n['dim']}D" + (f", a prism {_mm(n['depth'])} deep" if n["depth"] else "")
-    return "\n".join([
-        f"{n['creature']}: {n['description']}" if n["description"] else n["creature"],
-        f"source: {n['source']}" + (" (the library's)" if n["library"] else ""),
-        f"{body}; mass {n['mass']:.4g} kg; body length {n['body_length']:.3g} m; "
-        f"{len(n['links'])} links, {len(n['dofs'])} actuated DOF{'s' * (len(n['dofs']) != 1)}",
-    ])  # fmt: skip
-
-
-def _link_table(n: dict) -> str:
-    h = n["grid"]["cell_size"]
-    header = ("link", "mass [kg]", "volume [m^3]", "density [kg/m^3]", "size [mm]",
-              "thickness [mm]", f"[cells of {h * 1000:g} mm]", "solid cells",
-              "cells/volume")  # fmt: skip
-    rows = [header]
-    for r in n["links"]:
-        rows.append((
-            r["name"], f"{r['mass']:.4g}", f"{r['volume']:.4g}", _maybe(r["density"], ".4g"),
-            " x ".join(f"{side * 1000:.3g}" for side in r["size"]),
-            f"{r['thickness'] * 1000:.3g}", f"{r['thickness_cells']:.2f}",
-            str(r["solid_cells"]), _maybe(r["voxel_fraction"], ".0%"),
-        ))  # fmt: skip
-    lines = ["links (volume from the geoms' shapes; density = mass / volume; solid cells at "
-             "the reference pose on the default grid)", _table(rows)]  # fmt: skip
-    t = n["thinnest"]
-    if t:
-        lines.append(f"thinnest link: {t['link']}, {t['thickness'] * 1000:.3g} mm = "
-                     f"{t['cells']:.2f} cells")  # fmt: skip
-    return "\n".join(lines)
-
-
-def _dof_table(n: dict) -> str:
-    rows = [("DOF", "kind", "lower [deg]", "upper [deg]", "kp [N m/rad]", "kd [N m s/rad]",
-             "gait")]  # fmt: skip
-    for d in n["dofs"]:
-        rows.append((d["name"], d["kind"], f"{math.degrees(d['lower']):.4g}",
-                     f"{math.degrees(d['upper']):.4g}", f"{d['kp']:.4g}", f"{d['kd']:.4g}",
-                     d["gait"]))  # fmt: skip
-    root = f"root: {n['root']['kind']} ({', '.join(n['root']['dofs'])}), not servoed"
-    return "\n".join(["DOFs", root, _table(rows)])
-
-
-def _gait_table(n: dict) -> str:
-    g = n["gait"]
-    fixed = ", ".join(f"{k} {v:g} {UNITS[k]}" for k, v in g["fixed"].items()) or "none"
-    rows = [("parameter", "lower", "upper", "default")]
-    for name, lo, hi, x in zip(g["names"], g["lower"], g["upper"], g["default"], strict=True):
-        rows.append((name, f"{lo:.4g}", f"{hi:.4g}", f"{x:.4g}"))
-    mirror = ", ".join(f"{dof} = {sign:+g} x {src}" for dof, src, sign in g["mirror"])
-    groups = "; ".join(", ".join(group) for group in g["groups"])
-    return "\n".join([
-        f"gait: {len(g['names'])} parameter{'s' * (len(g['names']) != 1)} (free: "
-        f"{', '.join(g['free'])}; fixed: {fixed}); amplitude, phase, offset [rad], period [s]",
-        _table(rows),
-        f"shared: {', '.join(g['shared']) or 'none'}; mirrored: {mirror or 'none'}; "
-        f"groups optimized in turn: {groups or 'one (all DOFs)'}",
-    ])  # fmt: skip
-
-
-def _grid_lines(n: dict) -> str:
-    g, c = n["grid"], n["clearance"]
-    cells = "x".join(str(x) for x in g["resolution"])
-    metres = " x ".join(f"{x:.3g}" for x in g["extent"])
-    lengths = " x ".join(f"{x:.2g}" for x in g["extent_body_lengths"])
-    holds = (
-        f"holds the body with {c['cells']} cells of water on every side "
-        f"(nearest wall {c['room']:.1f} cells away)"
-        if c["holds"] else f"does not hold the body: {c['error']}"
-    )  # fmt: skip
-    pd = n["pd"]
-    return "\n".join([
-        f"default grid: {cells} cells of {g['cell_size'] * 1000:g} mm = {metres} m = "
-        f"{lengths} body lengths",
-        f"clearance (Euler fluid): {holds}",
-        f"energy bound: {n['energy_bound']:.4g} J of actuator work over two cycles",
-        f"PD servos: natural frequency {pd['natural_frequency']:g} rad/s, "
-        f"damping ratio {pd['damping_ratio']:g}",
-    ])  # fmt: skip
-
-
-def _notes(n: dict) -> str:
-    lines = []
-    if n["notes"]:
-        lines += ["notes:", *(f"  - {note}" for note in n["notes"])]
-    if n["warnings"]:
-        lines += ["WARNINGS:", *(f"  - {w}" for w in n["warnings"])]
-    return "\n".join(lines or ["no warnings"])
-
-
-def _table(rows) -> str:
-    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    return "\n".join(
-        "  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip()
-        for row in rows
-    )
-
-
-def _maybe(value, spec: str) -> str:
-    return "-" if value is None else format(value, spec)
 
 
 def write_check(report: CheckReport, out, picture: bool = True) -> Path:

@@ -18,11 +18,12 @@ of poses.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from aquagait.body.dynamics import Dynamics, describe
+from aquagait.body.dynamics import Dynamics, describe, mesh_faces
 from aquagait.body.model import Model
 
 
@@ -125,3 +126,34 @@ def _primitive_points(kind: str, size) -> np.ndarray:
         ring = np.stack([np.cos(azimuth), np.sin(azimuth), np.zeros_like(azimuth)], -1) * size[0]
         return np.concatenate([ring + [0, 0, size[1]], ring - [0, 0, size[1]]])
     raise ValueError(f"geom kind {kind!r} has no point sampling; use a mesh, box or round geom")
+
+
+def link_volumes(model) -> np.ndarray:
+    """Each link's volume, the sum of its geoms' volumes, (nl,) [m^3].
+
+    Overlapping geoms count twice, as in MuJoCo's mass, so ``link_mass /
+    volume`` is the geoms' density. In 2D every geom is a z-prism of the
+    model's depth, so this is the prism's volume.
+    """
+    facts, faces = describe(model.mj), mesh_faces(model.mj)
+    out = np.zeros(len(facts.link_names))
+    for g, kind in enumerate(facts.geom_kind):
+        out[facts.geom_link[g]] += _geom_volume(kind, facts.geom_size[g],
+                                                facts.geom_vertices[g], faces[g])  # fmt: skip
+    return out
+
+
+def _geom_volume(kind: str, size, vertices, faces) -> float:
+    """The volume of one MuJoCo geom [m^3]."""
+    r = size[0]
+    if kind == "mesh":  # divergence theorem; faces wind outward
+        a, b, c = (vertices[faces[:, i]] for i in range(3))
+        return abs(float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum())) / 6
+    volumes = {
+        "box": lambda: 8 * size[0] * size[1] * size[2],
+        "sphere": lambda: 4 / 3 * math.pi * r**3,
+        "ellipsoid": lambda: 4 / 3 * math.pi * size[0] * size[1] * size[2],
+        "capsule": lambda: math.pi * r**2 * (2 * size[1] + 4 / 3 * r),
+        "cylinder": lambda: math.pi * r**2 * 2 * size[1],
+    }
+    return float(volumes[kind]())

@@ -1,0 +1,134 @@
+"""The check's report as text: the tables ``aquagait check`` prints and keeps in ``check.txt``."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from aquagait.app.check import CheckReport
+
+
+UNITS = {"amplitude": "rad", "phase": "rad", "period": "s", "offset": "rad"}
+"""Units of the gait's kinds."""
+
+
+def mm(metres: float) -> str:
+    """A length in millimetres, three digits."""
+    return f"{metres * 1000:.3g} mm"
+
+
+def format_check(report: CheckReport) -> str:
+    """The check as text for people: the tables, the notes and the warnings."""
+    n = report.numbers
+    sections = [
+        _heading(n),
+        _link_table(n),
+        _dof_table(n),
+        _gait_table(n),
+        _grid_lines(n),
+        _notes(n),
+    ]
+    return "\n\n".join(s for s in sections if s)
+
+
+def _heading(n: dict) -> str:
+    body = f"{n['dim']}D" + (f", a prism {mm(n['depth'])} deep" if n["depth"] else "")
+    return "\n".join([
+        f"{n['creature']}: {n['description']}" if n["description"] else n["creature"],
+        f"source: {n['source']}" + (" (the library's)" if n["library"] else ""),
+        f"{body}; mass {n['mass']:.4g} kg; body length {n['body_length']:.3g} m; "
+        f"{len(n['links'])} links, {len(n['dofs'])} actuated DOF{'s' * (len(n['dofs']) != 1)}",
+    ])  # fmt: skip
+
+
+def _link_table(n: dict) -> str:
+    h = n["grid"]["cell_size"]
+    header = ("link", "mass [kg]", "volume [m^3]", "density [kg/m^3]", "size [mm]",
+              "thickness [mm]", f"[cells of {h * 1000:g} mm]", "solid cells",
+              "cells/volume")  # fmt: skip
+    rows = [header]
+    for r in n["links"]:
+        rows.append((
+            r["name"], f"{r['mass']:.4g}", f"{r['volume']:.4g}", _maybe(r["density"], ".4g"),
+            " x ".join(f"{side * 1000:.3g}" for side in r["size"]),
+            f"{r['thickness'] * 1000:.3g}", f"{r['thickness_cells']:.2f}",
+            str(r["solid_cells"]), _maybe(r["voxel_fraction"], ".0%"),
+        ))  # fmt: skip
+    lines = ["links (volume from the geoms' shapes; density = mass / volume; solid cells at "
+             "the reference pose on the default grid)", _table(rows)]  # fmt: skip
+    t = n["thinnest"]
+    if t:
+        lines.append(f"thinnest link: {t['link']}, {t['thickness'] * 1000:.3g} mm = "
+                     f"{t['cells']:.2f} cells")  # fmt: skip
+    return "\n".join(lines)
+
+
+def _dof_table(n: dict) -> str:
+    rows = [("DOF", "kind", "lower [deg]", "upper [deg]", "kp [N m/rad]", "kd [N m s/rad]",
+             "gait")]  # fmt: skip
+    for d in n["dofs"]:
+        rows.append((d["name"], d["kind"], f"{math.degrees(d['lower']):.4g}",
+                     f"{math.degrees(d['upper']):.4g}", f"{d['kp']:.4g}", f"{d['kd']:.4g}",
+                     d["gait"]))  # fmt: skip
+    root = f"root: {n['root']['kind']} ({', '.join(n['root']['dofs'])}), not servoed"
+    return "\n".join(["DOFs", root, _table(rows)])
+
+
+def _gait_table(n: dict) -> str:
+    g = n["gait"]
+    fixed = ", ".join(f"{k} {v:g} {UNITS[k]}" for k, v in g["fixed"].items()) or "none"
+    rows = [("parameter", "lower", "upper", "default")]
+    for name, lo, hi, x in zip(g["names"], g["lower"], g["upper"], g["default"], strict=True):
+        rows.append((name, f"{lo:.4g}", f"{hi:.4g}", f"{x:.4g}"))
+    mirror = ", ".join(f"{dof} = {sign:+g} x {src}" for dof, src, sign in g["mirror"])
+    groups = "; ".join(", ".join(group) for group in g["groups"])
+    return "\n".join([
+        f"gait: {len(g['names'])} parameter{'s' * (len(g['names']) != 1)} (free: "
+        f"{', '.join(g['free'])}; fixed: {fixed}); amplitude, phase, offset [rad], period [s]",
+        _table(rows),
+        f"shared: {', '.join(g['shared']) or 'none'}; mirrored: {mirror or 'none'}; "
+        f"groups optimized in turn: {groups or 'one (all DOFs)'}",
+    ])  # fmt: skip
+
+
+def _grid_lines(n: dict) -> str:
+    g, c = n["grid"], n["clearance"]
+    cells = "x".join(str(x) for x in g["resolution"])
+    metres = " x ".join(f"{x:.3g}" for x in g["extent"])
+    lengths = " x ".join(f"{x:.2g}" for x in g["extent_body_lengths"])
+    holds = (
+        f"holds the body with {c['cells']} cells of water on every side "
+        f"(nearest wall {c['room']:.1f} cells away)"
+        if c["holds"] else f"does not hold the body: {c['error']}"
+    )  # fmt: skip
+    pd = n["pd"]
+    return "\n".join([
+        f"default grid: {cells} cells of {g['cell_size'] * 1000:g} mm = {metres} m = "
+        f"{lengths} body lengths",
+        f"clearance (Euler fluid): {holds}",
+        f"energy bound: {n['energy_bound']:.4g} J of actuator work over two cycles",
+        f"PD servos: natural frequency {pd['natural_frequency']:g} rad/s, "
+        f"damping ratio {pd['damping_ratio']:g}",
+    ])  # fmt: skip
+
+
+def _notes(n: dict) -> str:
+    lines = []
+    if n["notes"]:
+        lines += ["notes:", *(f"  - {note}" for note in n["notes"])]
+    if n["warnings"]:
+        lines += ["WARNINGS:", *(f"  - {w}" for w in n["warnings"])]
+    return "\n".join(lines or ["no warnings"])
+
+
+def _table(rows) -> str:
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    return "\n".join(
+        "  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip()
+        for row in rows
+    )
+
+
+def _maybe(value, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
