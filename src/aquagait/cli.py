@@ -19,7 +19,11 @@ NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF
 def _cmd_bench(args) -> int:
     from aquagait.bench import run_benchmark
 
-    run_benchmark(args.what, repeats=args.repeats, out=sys.stdout)
+    try:
+        run_benchmark(args.what, repeats=args.repeats, out=sys.stdout, profile=args.profile,
+                      compare_advection=args.compare_advection)  # fmt: skip
+    except ValueError as err:
+        return _fail("bench", err, status=2)
     return 0
 
 
@@ -274,6 +278,10 @@ def build_parser() -> argparse.ArgumentParser:
     bench = commands.add_parser("bench", help="measure speed against in-run baselines")
     bench.add_argument("what", choices=BENCHMARKS, help="which benchmark to run")
     bench.add_argument("--repeats", type=int, default=10, help="timed repetitions per case")
+    bench.add_argument("--profile", action="store_true", help="swim: time per phase of a step")
+    bench.add_argument(
+        "--compare-advection", action="store_true", help="swim: old and new advection, one run"
+    )
     bench.set_defaults(run=_cmd_bench)
 
     creatures = commands.add_parser("creatures", help="list the creature library")

@@ -6,23 +6,40 @@ CFL-limited coupled steps that make one frame). The baseline is the paper's
 Table 1 (Tan et al. 2011, single core, C++, 2011) for the same grids: 0.64 s
 per frame for the 2D eel at 128x64 and 1.45 s for the fish at 64x32x32.
 The target is 30x faster than the paper.
+
+``--profile`` splits the coupled step into its phases (``profile``), and
+``--compare-advection`` times the same frames with each advection scheme
+beside the other (``compare_advection``).
 """
 
 from __future__ import annotations
 
 import statistics
 import time
+from collections import defaultdict
+from contextlib import contextmanager
 from typing import TextIO
 
 PAPER_SECONDS_PER_FRAME = {"eel2d": 0.64, "fish": 1.45}
 TARGET_RATIO = 30.0
 WARMUP_FRAMES = 15
+PROFILED = ("eel2d", "fish", "accordion2d")
+
+PHASES = {
+    "voxelize": ("_voxels",),
+    "advect": ("advect_velocity",),
+    "predict body": ("servo_forces", "predict_body"),
+    "coupled solve": ("EulerFluid._coupled_solve",),
+    "rigid faces": ("rigid_faces_",),
+    "move body, follow": ("move_body", "follow"),
+}
+"""The phases of ``EulerFluid.step`` (its docstring's algorithm box), by the
+functions of ``aquagait.sim.fluids`` that make each one up."""
 
 
 def run(repeats: int, out: TextIO) -> list[dict]:
     """Time ``repeats`` frames per creature and print the table; returns its rows."""
     import aquagait as ag
-    from aquagait.sim import advance
 
     print(
         f"{'creature':<10}{'grid':>11}{'s_per_frame':>13}{'steps':>7}{'paper_s':>9}"
@@ -32,23 +49,12 @@ def run(repeats: int, out: TextIO) -> list[dict]:
     rows = []
     for name, paper in PAPER_SECONDS_PER_FRAME.items():
         creature = ag.creatures.get(name)
-        scene = ag.make_scene(creature, fluid="euler")
-        policy = creature.policy()
-        state = ag.init_state(scene)
-        seconds, steps = [], []
-        for frame in range(WARMUP_FRAMES + repeats):
-            start, before = time.perf_counter(), state.steps
-            state = advance(scene, state, policy, state.time + 1 / 30)
-            elapsed = time.perf_counter() - start
-            if frame >= WARMUP_FRAMES:
-                seconds.append(elapsed)
-                steps.append(state.steps - before)
-        per_frame = statistics.median(seconds)
+        per_frame, steps = _time_frames(ag.make_scene(creature, fluid="euler"), creature, repeats)
         row = dict(
             creature=name,
             grid="x".join(map(str, creature.resolution)),
             seconds_per_frame=per_frame,
-            steps_per_frame=statistics.median(steps),
+            steps_per_frame=steps,
             paper=paper,
             ratio=paper / per_frame,
         )
@@ -60,3 +66,111 @@ def run(repeats: int, out: TextIO) -> list[dict]:
             flush=True,
         )
     return rows
+
+
+def profile(repeats: int, out: TextIO, creatures=PROFILED) -> list[dict]:
+    """Time each phase of the coupled step, per creature; print ms per step and share.
+
+    The step itself carries no timing code: while the frames run, the phase
+    functions that ``aquagait.sim.fluids`` calls are swapped for timed
+    wrappers of themselves (``_timed_phases``), so the step timed is the step
+    that runs. "other" is the rest of a frame's steps (CFL limit, checks,
+    Python); "record frame" is the fluid plane a rollout keeps once per frame
+    (``aquagait.sim.frames``), spread over the frame's steps.
+
+    Returns:
+        one dict per creature: name, grid, steps (timed), ms per step by phase.
+    """
+    import aquagait as ag
+    from aquagait.sim import advance
+    from aquagait.sim.frames import fluid_frames
+
+    rows = []
+    for name in creatures:
+        creature = ag.creatures.get(name)
+        scene = ag.make_scene(creature, fluid="euler")
+        policy, state = creature.policy(), ag.init_state(scene)
+        for _ in range(WARMUP_FRAMES):
+            state = advance(scene, state, policy, state.time + 1 / 30)
+        totals, steps, wall = defaultdict(float), 0, 0.0
+        for _ in range(repeats):
+            start, before = time.perf_counter(), state.steps
+            with _timed_phases(totals):
+                state = advance(scene, state, policy, state.time + 1 / 30)
+            wall += time.perf_counter() - start
+            steps += state.steps - before
+            start = time.perf_counter()
+            fluid_frames(scene, [state])
+            totals["record frame"] += time.perf_counter() - start
+        totals["other"] = wall - sum(v for k, v in totals.items() if k != "record frame")
+        ms = {phase: 1e3 * seconds / steps for phase, seconds in totals.items()}
+        rows.append(dict(creature=name, grid=_grid(creature), steps=steps, ms_per_step=ms))
+        _print_profile(rows[-1], out)
+    return rows
+
+
+@contextmanager
+def _timed_phases(totals: dict):
+    """Swap the phase functions of ``aquagait.sim.fluids`` for timed ones, then restore them."""
+    from aquagait.sim import fluids
+
+    saved = []
+    for phase, names in PHASES.items():
+        for name in names:
+            owner, attr = (fluids.EulerFluid, name.split(".")[1]) if "." in name else (fluids, name)
+            original = getattr(owner, attr)
+            saved.append((owner, attr, original))
+            setattr(owner, attr, _timed(original, phase, totals))
+    try:
+        yield
+    finally:
+        for owner, attr, original in reversed(saved):
+            setattr(owner, attr, original)
+
+
+def _timed(function, phase: str, totals: dict):
+    def timed(*args, **kwargs):
+        start = time.perf_counter()
+        try:
+            return function(*args, **kwargs)
+        finally:
+            totals[phase] += time.perf_counter() - start
+
+    return timed
+
+
+def _print_profile(row: dict, out: TextIO) -> None:
+    ms = row["ms_per_step"]
+    total = sum(ms.values())
+    print(f"{row['creature']} {row['grid']}: {total:.2f} ms per step "
+          f"({row['steps']} steps timed)", file=out)  # fmt: skip
+    for phase in [*PHASES, "other", "record frame"]:
+        share = 100 * ms.get(phase, 0.0) / total
+        print(f"  {phase:<20}{ms.get(phase, 0.0):>9.3f} ms{share:>7.1f}%", file=out)
+    out.flush()
+
+
+def _time_frames(scene, creature, repeats: int) -> tuple[float, float]:
+    """Median wall time of a frame after the warm-up, and median steps per frame."""
+    import aquagait as ag
+    from aquagait.sim import advance
+
+    policy, state = creature.policy(), ag.init_state(scene)
+    seconds, steps = [], []
+    for frame in range(WARMUP_FRAMES + repeats):
+        start, before = time.perf_counter(), state.steps
+        state = advance(scene, state, policy, state.time + 1 / 30)
+        elapsed = time.perf_counter() - start
+        if frame >= WARMUP_FRAMES:
+            seconds.append(elapsed)
+            steps.append(state.steps - before)
+    return statistics.median(seconds), statistics.median(steps)
+
+
+def _grid(creature) -> str:
+    return "x".join(map(str, creature.resolution))
+
+
+def compare_advection(repeats: int, out: TextIO) -> list[dict]:
+    """Placeholder until a second scheme exists."""
+    return []
