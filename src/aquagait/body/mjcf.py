@@ -8,7 +8,7 @@ only describe scenery; so the text is read here first (``prepare_mjcf``):
    file name is looked up next to the main file first, then next to the file
    that includes it; the included ``<mujoco>``'s children replace the element.
 2. Set aside, with one note per kind, what only describes scenery or another
-   simulator's set-up (``IGNORED`` says why for each): geoms and joint-free
+   simulator's set-up (``aquagait.body.scenery``): geoms and joint-free
    bodies fixed to the world (floors, targets), lights, cameras, textures,
    skyboxes and materials, ``<visual>``/``<statistic>``, actuators, sensors,
    contact pairs and exclusions, tendons, keyframes, ``<option>`` (its fluid
@@ -41,36 +41,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from xml.parsers import expat
 
+from aquagait.body.scenery import kids, names, set_aside
+
 GEOM_KINDS = ("capsule", "box", "sphere", "ellipsoid", "cylinder", "mesh")
-PASSIVE = ("armature", "damping", "stiffness", "frictionloss", "springref", "springdamper")
 FILE_ASSETS = {"mesh": "meshdir", "hfield": "meshdir", "skin": "meshdir", "texture": "texturedir"}
-SECTIONS = {
-    "actuator": "actuator",
-    "sensor": "sensor",
-    "contact": "contact pair or exclusion",
-    "tendon": "tendon",
-    "keyframe": "keyframe",
-}
-PLURALS = {
-    "body fixed to the world": "bodies fixed to the world",
-    "contact pair or exclusion": "contact pairs or exclusions",
-}
-IGNORED = {
-    "scenery": "aquagait's water has no floor, walls or obstacles: only the creature is simulated",
-    "light": "aquagait's pictures light the scene themselves",
-    "camera": "aquagait's pictures place their own camera",
-    "texture": "aquagait's pictures use no MuJoCo textures or skybox",
-    "material": "aquagait's pictures use no MuJoCo materials",
-    "visual": "these only set up MuJoCo's renderer",
-    "actuator": "aquagait drives the joints itself, with the gait's PD torques",
-    "sensor": "aquagait measures the swim itself",
-    "contact": "aquagait's links do not collide; the objective penalizes overlapping links instead",
-    "tendon": "tendons act only through actuators, limits and springs, none of which aquagait uses",
-    "keyframe": "aquagait starts from the reference pose qpos0",
-    "option": "aquagait simulates its own water and body, with gravity off (neutral buoyancy)",
-    "passive": "aquagait's joints feel only the gait's PD torques and the water: no springs, "
-    "damping, friction or rotor inertia",
-}
 
 
 class ModelError(ValueError):
@@ -245,112 +219,6 @@ def _places(main_dir: Path, here: Path) -> str:
     return str(main_dir) if main_dir == here else f"{main_dir} or {here}"
 
 
-# --- what only describes scenery or another simulator's set-up -------------------------
-
-
-def set_aside(root) -> list[str]:
-    """Remove from ``root`` what aquagait ignores (module doc, step 2); one note per kind."""
-    notes: list[str] = []
-    parent = {child: p for p in root.iter() for child in p}
-    worldbody = root.find("worldbody")
-    tops = _kids(worldbody, "body")
-    moving = [
-        b for b in tops if b.find(".//joint") is not None or b.find(".//freejoint") is not None
-    ]
-    _drop(parent, _kids(worldbody, "geom"), "geom fixed to the world", "scenery", notes)
-    _drop(parent, [b for b in tops if moving and b not in moving], "body fixed to the world",
-          "scenery", notes)  # fmt: skip
-    for tag in ("light", "camera"):
-        _drop(parent, list(worldbody.iter(tag)), tag, tag, notes)
-    for tag in ("texture", "material"):
-        _drop(parent, [e for a in root.findall("asset") for e in a.findall(tag)], tag, tag, notes)
-    for element in root.iter():
-        element.attrib.pop("material", None)
-    for tag, noun in SECTIONS.items():
-        sections = root.findall(tag)
-        _drop(parent, [e for section in sections for e in section], noun, tag, notes)
-        _drop(parent, sections, "", "", notes)
-    renderer = root.findall("visual") + root.findall("statistic")
-    if renderer:
-        tags = ", ".join(sorted({f"<{e.tag}>" for e in renderer}))
-        notes.append(f"ignored {tags}: {IGNORED['visual']}")
-        _drop(parent, renderer, "", "", notes)
-    _set_aside_options(root, parent, notes)
-    _set_aside_passive(root, parent, notes)
-    return notes
-
-
-def _kids(element, tag: str) -> list:
-    """Children of ``element`` with ``tag``, looking through MuJoCo's <frame> elements."""
-    found = []
-    for child in element:
-        if child.tag == tag:
-            found.append(child)
-        elif child.tag == "frame":
-            found += _kids(child, tag)
-    return found
-
-
-def _drop(parent, elements, noun, why, notes) -> None:
-    """Remove ``elements``; note them as ignored ``noun``s unless ``noun`` is empty."""
-    for element in elements:
-        parent[element].remove(element)
-    if elements and noun:
-        plural = PLURALS.get(noun, noun.replace(" ", "s ", 1) if " " in noun else noun + "s")
-        names = _names(elements, kind=noun.startswith(("geom", "texture")))
-        count = f"{len(elements)} {noun if len(elements) == 1 else plural}"
-        notes.append(f"ignored {count} ({names}): {IGNORED[why]}")
-
-
-def _names(elements, kind=False, most=4) -> str:
-    def label(e):  # a geom's or texture's type too: "plane 'floor'", "skybox"
-        name, kind_of = repr(e.get("name")) if e.get("name") else "", e.get("type") if kind else ""
-        return " ".join(filter(None, [kind_of, name])) or "unnamed"
-
-    labels = [label(e) for e in elements[:most]]
-    more = f" and {len(elements) - most} more" if len(elements) > most else ""
-    return ", ".join(labels) + more
-
-
-def _set_aside_options(root, parent, notes) -> None:
-    ignored = []
-    for option in root.findall("option"):
-        for name, value in option.attrib.items():
-            if name != "gravity" or _nonzero(value):
-                ignored.append(name)
-        ignored += [f"<{child.tag}>" for child in option]
-    if ignored:
-        listed = ", ".join(dict.fromkeys(ignored))
-        notes.append(f"ignored <option> {listed}: {IGNORED['option']}")
-        _drop(parent, root.findall("option"), "", "", [])
-
-
-def _set_aside_passive(root, parent, notes) -> None:
-    terms, where = [], []
-    for joint in root.iter("joint"):
-        found = [a for a in PASSIVE if a in joint.attrib and _nonzero(joint.attrib[a])]
-        for name in PASSIVE:
-            joint.attrib.pop(name, None)
-        if found:
-            terms += found
-            owner = parent[joint]
-            if owner.tag == "default":
-                where.append(f"default class {owner.get('class', 'main')!r}")
-            else:
-                where.append(repr(joint.get("name")) if joint.get("name") else "an unnamed joint")
-    if where:
-        listed = ", ".join(dict.fromkeys(terms))
-        shown = ", ".join(where[:4]) + (f" and {len(where) - 4} more" if len(where) > 4 else "")
-        notes.append(f"ignored joint {listed} (on {shown}): {IGNORED['passive']}")
-
-
-def _nonzero(value: str) -> bool:
-    try:
-        return any(float(v) != 0 for v in value.split())
-    except ValueError:
-        return True
-
-
 # --- what the text shows is wrong ------------------------------------------------------
 
 
@@ -360,7 +228,7 @@ def text_problems(root) -> list[str]:
     for equality in root.findall("equality"):
         if len(equality):
             problems.append(
-                f"<equality> holds {len(equality)} constraint(s) ({_names(list(equality))}); "
+                f"<equality> holds {len(equality)} constraint(s) ({names(list(equality))}); "
                 "aquagait solves no constraints between links: remove it (to move joints "
                 "together, give them shared gait parameters)"
             )
@@ -403,7 +271,7 @@ def _default_attr(classes, name, attr):
 
 
 def _walk_bodies(element, childclass, classes, problems) -> None:
-    for body in _kids(element, "body"):
+    for body in kids(element, "body"):
         label = f"body {body.get('name')!r}" if body.get("name") else "an unnamed body"
         cls = body.get("childclass", childclass)
         for inertial in body.findall("inertial"):
@@ -412,12 +280,12 @@ def _walk_bodies(element, childclass, classes, problems) -> None:
                 "so they match the volume the fluid sees; remove it"
             )
             body.remove(inertial)
-        geoms = _kids(body, "geom")
+        geoms = kids(body, "geom")
         if not geoms:
             problems.append(f"{label} has no <geom>; every link needs volume (and so mass)")
         for index, geom in enumerate(geoms):
             _check_geom(body, geom, index, label, geom.get("class", cls), classes, problems)
-        if not _kids(body, "geom"):  # only a placeholder, for MuJoCo to check the rest
+        if not kids(body, "geom"):  # only a placeholder, for MuJoCo to check the rest
             ET.SubElement(body, "inertial", pos="0 0 0", mass="1", diaginertia="1 1 1")
         _walk_bodies(body, cls, classes, problems)
 
