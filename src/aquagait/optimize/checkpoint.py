@@ -46,6 +46,7 @@ LOG_COLUMNS = (
     "resamples",
     "failed",
     "lost",
+    "refinements",
 )
 FAILURE_COLUMNS = ("generation", "group", "sample", "status", "reason")
 
@@ -60,8 +61,19 @@ def fingerprint(problem: Problem, settings: Settings) -> dict:
         "sigma0": problem.sigma0,
         "groups": [group.tolist() for group in problem.groups],
         "feasible": problem.feasible is not None,
-        **settings.as_dict(),
+        **_settings(problem, settings),
     }
+
+
+def _settings(problem: Problem, settings: Settings) -> dict:
+    """The settings that shape the run: `refine_top` only for a coarse-to-fine one, so
+    checkpoints written before it existed still resume."""
+    values = settings.as_dict()
+    if problem.refine is None:
+        del values["refine_top"]
+    else:
+        values["refine"] = True
+    return values
 
 
 def mismatch(saved: dict, wanted: dict) -> list[str]:

@@ -74,6 +74,7 @@ class _Run:
     es: cma.CMAEvolutionStrategy | None = None  # its CMA-ES; None before it starts
     group_generations: int = 0
     evaluations: int = 0
+    refinements: int = 0  # evaluations of Problem.refine
     elapsed: float = 0.0  # seconds, over every session
     history: list[dict] = field(default_factory=list)
     stopped: list[str] = field(default_factory=list)
@@ -148,6 +149,7 @@ def optimize(
         history=run.history,
         evaluations=run.evaluations,
         stopped="; ".join(run.stopped),
+        refinements=run.refinements,
     )
 
 
@@ -256,19 +258,38 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
                 "generation %d, sample %d %s (%s): penalty %g",
                 len(run.history) + 1, i, outcome.status, outcome.message, settings.penalty,
             )  # fmt: skip
+    succeeded = [i for i in todo if i not in penalized]
+    ranked = sorted(succeeded, key=lambda i: values[i])  # stable: the first of equals first
+    if problem.refine is None:
+        scored = [(i, values[i]) for i in ranked[:1]]
+    else:
+        scored = _refined(problem, settings, ranked, full, samples, executor)
+        run.refinements += len(scored)
     run.es.tell(samples, values.tolist())
     run.evaluations += len(todo)
     run.group_generations += 1
-    succeeded = [i for i in todo if i not in penalized]
-    if succeeded:
-        best = min(succeeded, key=lambda i: values[i])  # the first of equals: order-independent
-        if values[best] < run.best_f:
-            run.best_f, run.best_x = float(values[best]), full(samples[best])
+    for i, value in scored:
+        if value < run.best_f:
+            run.best_f, run.best_x = float(value), full(samples[i])
     penalties = [
         {"sample": i, "status": status, "reason": why, "x": full(samples[i]).tolist()}
         for i, (status, why) in sorted(penalized.items())
     ]
     run.history.append(_record(run, values[succeeded], penalties, resamples))
+
+
+def _refined(problem: Problem, settings: Settings, ranked, full, samples, executor) -> list:
+    """``(sample, refine value)`` of the generation's best ``refine_top`` samples that
+    ``refine`` scored (a refinement that fails scores nothing)."""
+    top = ranked[: settings.refine_top]
+    outcomes = evaluate(
+        problem.refine, [full(samples[i]) for i in top], executor, settings.retries,
+        settings.penalty,
+    )  # fmt: skip
+    for i, outcome in zip(top, outcomes, strict=True):
+        if outcome.status != OK:
+            log.warning("refining sample %d %s (%s)", i, outcome.status, outcome.message)
+    return [(i, o.value) for i, o in zip(top, outcomes, strict=True) if o.status == OK]
 
 
 def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: int) -> dict:
@@ -289,6 +310,7 @@ def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: 
         "infeasible": infeasible,
         "resamples": resamples,
         "elapsed": run.elapsed,
+        "refinements": run.refinements,
         "best_x": run.best_x.tolist(),
         "penalized": penalized,
     }

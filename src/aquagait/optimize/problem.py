@@ -73,6 +73,13 @@ class Problem:
             frozen at the best point found so far; the next group starts from
             that best point. Empty: all coordinates at once.
         names: (n,) parameter names for the log; empty gives x0, x1, ...
+        refine: coarse-to-fine search. `refine(x) -> float` is the objective
+            the search is for (e.g. the swim on the target grid) and
+            `objective` a cheaper model of it that only ranks the samples
+            (the swim on a coarser grid, DESIGN.md §2.9). CMA-ES learns from
+            `objective`; the best `Settings.refine_top` samples of every
+            generation are also evaluated with `refine`, and the answer is the
+            best point by `refine`. None: `objective` is the objective.
     """
 
     objective: Callable[[np.ndarray], float]
@@ -83,10 +90,13 @@ class Problem:
     feasible: Callable[[np.ndarray], bool] | None = None
     groups: tuple[np.ndarray, ...] = ()
     names: tuple[str, ...] = ()
+    refine: Callable[[np.ndarray], float] | None = None
 
     def __post_init__(self):
         if not callable(self.objective):
             raise TypeError(f"Problem.objective must be callable, got {self.objective!r}")
+        if self.refine is not None and not callable(self.refine):
+            raise TypeError(f"Problem.refine must be callable or None, got {self.refine!r}")
         if self.feasible is not None and not callable(self.feasible):
             raise TypeError(f"Problem.feasible must be callable or None, got {self.feasible!r}")
         x0 = _vector("x0", self.x0)
@@ -142,6 +152,8 @@ class Settings:
             is deterministic and would raise again.
         tolfun, tolx: pycma's stopping tolerances on the spread of recent
             objective values and on the step size in x.
+        refine_top: with `Problem.refine`, how many of every generation's best
+            samples (by `objective`) are evaluated with `refine`.
     """
 
     popsize: int = 16
@@ -152,10 +164,12 @@ class Settings:
     retries: int = 1
     tolfun: float = 1e-11
     tolx: float = 1e-11
+    refine_top: int = 2
 
     def __post_init__(self):
         checks = [
             ("popsize", self.popsize, 2),
+            ("refine_top", self.refine_top, 1),
             ("generations", self.generations, 1),
             ("seed", self.seed, 0),
             ("max_resamples", self.max_resamples, 0),
@@ -240,11 +254,13 @@ class Result:
 
     Attributes:
         best_x: (n,) the best parameters evaluated (x0 if no sample succeeded).
-        best_f: its objective value (inf if no sample succeeded).
+        best_f: its objective value (inf if no sample succeeded); with
+            `Problem.refine`, its `refine` value, and best_x the best by it.
         history: one dict per generation with keys generation, group,
             evaluations, best, mean, generation_best, sigma, failures (failed
             + lost), failed, lost, infeasible, resamples, elapsed, best_x (a
-            list) and penalized: one dict per sample that got the penalty,
+            list), refinements (evaluations of `refine` so far) and
+            penalized: one dict per sample that got the penalty,
             with its index ("sample"), "status" ("failed", "lost" or
             "infeasible"), "reason" and "x" (a list). Every entry but `elapsed`
             is a deterministic function of the problem and settings, unless a
@@ -252,6 +268,7 @@ class Result:
         evaluations: samples evaluated (each counted once, retries included).
         stopped: why the search ended, per group ("generations (100)",
             "tolfun=1e-11", ...).
+        refinements: evaluations of `Problem.refine` (0 without it).
     """
 
     best_x: np.ndarray
@@ -259,6 +276,7 @@ class Result:
     history: list[dict] = field(repr=False)
     evaluations: int
     stopped: str
+    refinements: int = 0
 
     @property
     def generations(self) -> int:
