@@ -8,7 +8,14 @@ Interpolation clamps a field coordinate into ``[0, n - 1]``, which extends the
 field by its outermost samples (zero gradient).
 
 The kernels are serial, take float64 C arrays and write into their trailing
-arguments. What makes them fast (each measured): the first RK2 stage, the
+arguments. Their first argument, ``branching``, picks how coordinates are
+clamped, by its type (Numba compiles one version per type and drops the
+other branch): None, branch-free (``min``/``max`` and signed conversions),
+or True, the branches and unsigned conversions of the code before issue 10,
+kept as a reference for the benchmark. Both give the same numbers bit for
+bit; the branch-free traces are 1.6x faster (fish, 64x32x32, one core),
+the branches and unsigned conversions are the cost. What else makes them
+fast (each measured): the first RK2 stage, the
 carrier at a sample, is a mean of 1 to 4 face values rather than a general
 interpolation, and the forward and backward traces of BFECC share it; flat
 arrays are indexed with unsigned integers, which spares Numba's negative-index
@@ -20,14 +27,24 @@ callee in another module changes.
 
 from __future__ import annotations
 
-from numba import njit, uint64
+from numba import int64, njit, uint64
 
 _FAST = {"contract"}  # fused multiply-add; changes nothing but round-off
 
 
 @njit(cache=True, inline="always")
-def _base(x, n):
-    """Lower node (unsigned, in ``[0, n-2]``) and weight of coordinate ``x`` on ``n`` samples."""
+def _base(x, n, branching):
+    """Lower node (unsigned, in ``[0, n-2]``) and weight of coordinate ``x`` on ``n`` samples.
+
+    Branch-free when ``branching`` is None: clamp, then a signed conversion
+    (one instruction each way, where the unsigned ones are sequences), the
+    node capped at ``n-2`` so that the last sample gets weight exactly 1.
+    The same numbers as the branching form, bit for bit, 1.6x faster traces.
+    """
+    if branching is None:
+        x = min(max(x, 0.0), float(n - 1))
+        i = min(int64(x), n - 2)
+        return uint64(i), x - float(i)
     if x <= 0.0:
         return uint64(0), 0.0
     if x >= n - 1:
@@ -37,8 +54,10 @@ def _base(x, n):
 
 
 @njit(cache=True, inline="always")
-def _clamp(x, n):
+def _clamp(x, n, branching):
     """``x`` clamped into the sample range ``[0, n-1]`` of an axis with ``n`` samples."""
+    if branching is None:
+        return min(max(x, 0.0), float(n - 1))
     if x <= 0.0:
         return 0.0
     if x >= n - 1:
@@ -73,20 +92,20 @@ def _trilerp(a, b, sx, sy, fx, fy, fz):
 
 
 @njit(cache=True, inline="always", fastmath=_FAST)
-def _interp_2d(a, n0, n1, x, y):
+def _interp_2d(a, n0, n1, x, y, branching):
     """Bilinear interpolation of flat ``a`` (shape ``(n0, n1)``) at field coords ``(x, y)``."""
-    i, fx = _base(x, n0)
-    j, fy = _base(y, n1)
+    i, fx = _base(x, n0, branching)
+    j, fy = _base(y, n1, branching)
     sx = uint64(n1)
     return _bilerp(a, i * sx + j, sx, fx, fy)
 
 
 @njit(cache=True, inline="always", fastmath=_FAST)
-def _interp_3d(a, n0, n1, n2, x, y, z):
+def _interp_3d(a, n0, n1, n2, x, y, z, branching):
     """Trilinear interpolation of flat ``a`` (shape ``(n0, n1, n2)``) at ``(x, y, z)``."""
-    i, fx = _base(x, n0)
-    j, fy = _base(y, n1)
-    k, fz = _base(z, n2)
+    i, fx = _base(x, n0, branching)
+    j, fy = _base(y, n1, branching)
+    k, fz = _base(z, n2, branching)
     sx, sy = uint64(n1 * n2), uint64(n2)
     return _trilerp(a, i * sx + j * sy + k, sx, sy, fx, fy, fz)
 
@@ -142,26 +161,26 @@ def _at_sample_3d(u, v, w, i, j, k, face):
 
 
 @njit(cache=True, inline="always", fastmath=_FAST)
-def _velocity_2d(u, v, nx, ny, x, y):
+def _velocity_2d(u, v, nx, ny, x, y, branching):
     """Carrier ``(u, v)`` (flat) at grid-unit point ``(x, y)`` [m/s]."""
     return (
-        _interp_2d(u, nx + 1, ny, x, y - 0.5),
-        _interp_2d(v, nx, ny + 1, x - 0.5, y),
+        _interp_2d(u, nx + 1, ny, x, y - 0.5, branching),
+        _interp_2d(v, nx, ny + 1, x - 0.5, y, branching),
     )
 
 
 @njit(cache=True, inline="always", fastmath=_FAST)
-def _velocity_3d(u, v, w, nx, ny, nz, x, y, z):
+def _velocity_3d(u, v, w, nx, ny, nz, x, y, z, branching):
     """Carrier ``(u, v, w)`` (flat) at grid-unit point ``(x, y, z)`` [m/s]."""
     return (
-        _interp_3d(u, nx + 1, ny, nz, x, y - 0.5, z - 0.5),
-        _interp_3d(v, nx, ny + 1, nz, x - 0.5, y, z - 0.5),
-        _interp_3d(w, nx, ny, nz + 1, x - 0.5, y - 0.5, z),
+        _interp_3d(u, nx + 1, ny, nz, x, y - 0.5, z - 0.5, branching),
+        _interp_3d(v, nx, ny + 1, nz, x - 0.5, y, z - 0.5, branching),
+        _interp_3d(w, nx, ny, nz + 1, x - 0.5, y - 0.5, z, branching),
     )
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def departure_2d(u2, v2, ox, oy, dt_h, px, py, qx, qy):
+def departure_2d(branching, u2, v2, ox, oy, dt_h, px, py, qx, qy):
     """RK2 (midpoint) back-trace from every sample of a 2D field, over ``dt`` and ``-dt``.
 
     Args:
@@ -181,17 +200,17 @@ def departure_2d(u2, v2, ox, oy, dt_h, px, py, qx, qy):
         for j in range(my):
             y = j + oy
             ux, uy = _at_sample_2d(u2, v2, i, j, face)
-            vx, vy = _velocity_2d(u, v, nx, ny, x - s * ux, y - s * uy)
-            px[i, j] = _clamp(x - dt_h * vx - ox, mx)
-            py[i, j] = _clamp(y - dt_h * vy - oy, my)
+            vx, vy = _velocity_2d(u, v, nx, ny, x - s * ux, y - s * uy, branching)
+            px[i, j] = _clamp(x - dt_h * vx - ox, mx, branching)
+            py[i, j] = _clamp(y - dt_h * vy - oy, my, branching)
             if qx is not None:
-                vx, vy = _velocity_2d(u, v, nx, ny, x + s * ux, y + s * uy)
-                qx[i, j] = _clamp(x + dt_h * vx - ox, mx)
-                qy[i, j] = _clamp(y + dt_h * vy - oy, my)
+                vx, vy = _velocity_2d(u, v, nx, ny, x + s * ux, y + s * uy, branching)
+                qx[i, j] = _clamp(x + dt_h * vx - ox, mx, branching)
+                qy[i, j] = _clamp(y + dt_h * vy - oy, my, branching)
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def departure_3d(u3, v3, w3, ox, oy, oz, dt_h, px, py, pz, qx, qy, qz):
+def departure_3d(branching, u3, v3, w3, ox, oy, oz, dt_h, px, py, pz, qx, qy, qz):
     """RK2 (midpoint) back-trace from every sample of a 3D field; see ``departure_2d``."""
     nx, ny, nz = v3.shape[0], u3.shape[1], u3.shape[2]
     u, v, w = u3.ravel(), v3.ravel(), w3.ravel()
@@ -205,65 +224,67 @@ def departure_3d(u3, v3, w3, ox, oy, oz, dt_h, px, py, pz, qx, qy, qz):
             for k in range(mz):
                 z = k + oz
                 ux, uy, uz = _at_sample_3d(u3, v3, w3, i, j, k, face)
-                vx, vy, vz = _velocity_3d(u, v, w, nx, ny, nz, x - s * ux, y - s * uy, z - s * uz)
-                px[i, j, k] = _clamp(x - dt_h * vx - ox, mx)
-                py[i, j, k] = _clamp(y - dt_h * vy - oy, my)
-                pz[i, j, k] = _clamp(z - dt_h * vz - oz, mz)
+                vx, vy, vz = _velocity_3d(
+                    u, v, w, nx, ny, nz, x - s * ux, y - s * uy, z - s * uz, branching
+                )
+                px[i, j, k] = _clamp(x - dt_h * vx - ox, mx, branching)
+                py[i, j, k] = _clamp(y - dt_h * vy - oy, my, branching)
+                pz[i, j, k] = _clamp(z - dt_h * vz - oz, mz, branching)
                 if qx is not None:
                     vx, vy, vz = _velocity_3d(
-                        u, v, w, nx, ny, nz, x + s * ux, y + s * uy, z + s * uz
+                        u, v, w, nx, ny, nz, x + s * ux, y + s * uy, z + s * uz, branching
                     )
-                    qx[i, j, k] = _clamp(x + dt_h * vx - ox, mx)
-                    qy[i, j, k] = _clamp(y + dt_h * vy - oy, my)
-                    qz[i, j, k] = _clamp(z + dt_h * vz - oz, mz)
+                    qx[i, j, k] = _clamp(x + dt_h * vx - ox, mx, branching)
+                    qy[i, j, k] = _clamp(y + dt_h * vy - oy, my, branching)
+                    qz[i, j, k] = _clamp(z + dt_h * vz - oz, mz, branching)
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def gather_2d(phi2, px, py, out):
+def gather_2d(branching, phi2, px, py, out):
     """``out = phi`` interpolated bilinearly at field coordinates ``(px, py)``."""
     n0, n1 = phi2.shape
     phi, x, y, o = phi2.ravel(), px.ravel(), py.ravel(), out.ravel()
     for b in range(o.size):
-        o[b] = _interp_2d(phi, n0, n1, x[b], y[b])
+        o[b] = _interp_2d(phi, n0, n1, x[b], y[b], branching)
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def gather_3d(phi3, px, py, pz, out):
+def gather_3d(branching, phi3, px, py, pz, out):
     """``out = phi`` interpolated trilinearly at field coordinates ``(px, py, pz)``."""
     n0, n1, n2 = phi3.shape
     phi, x, y, z, o = phi3.ravel(), px.ravel(), py.ravel(), pz.ravel(), out.ravel()
     for b in range(o.size):
-        o[b] = _interp_3d(phi, n0, n1, n2, x[b], y[b], z[b])
+        o[b] = _interp_3d(phi, n0, n1, n2, x[b], y[b], z[b], branching)
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def compensate_2d(phi2, phi1_2, qx, qy, out):
+def compensate_2d(branching, phi2, phi1_2, qx, qy, out):
     """BFECC's middle pass: ``out = phi + (phi - phi1(q)) / 2``, ``phi1`` interpolated at ``q``."""
     n0, n1 = phi2.shape
     phi, phi1, x, y, o = phi2.ravel(), phi1_2.ravel(), qx.ravel(), qy.ravel(), out.ravel()
     for b in range(o.size):
-        o[b] = phi[b] + 0.5 * (phi[b] - _interp_2d(phi1, n0, n1, x[b], y[b]))
+        o[b] = phi[b] + 0.5 * (phi[b] - _interp_2d(phi1, n0, n1, x[b], y[b], branching))
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def compensate_3d(phi3, phi1_3, qx, qy, qz, out):
+def compensate_3d(branching, phi3, phi1_3, qx, qy, qz, out):
     """BFECC's middle pass in 3D; see ``compensate_2d``."""
     n0, n1, n2 = phi3.shape
     phi, phi1, o = phi3.ravel(), phi1_3.ravel(), out.ravel()
     x, y, z = qx.ravel(), qy.ravel(), qz.ravel()
     for b in range(o.size):
-        o[b] = phi[b] + 0.5 * (phi[b] - _interp_3d(phi1, n0, n1, n2, x[b], y[b], z[b]))
+        o[b] = phi[b] + 0.5 * (phi[b] - _interp_3d(phi1, n0, n1, n2, x[b], y[b], z[b], branching))
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def limited_gather_2d(phi_tilde2, phi2, px, py, out):
+def limited_gather_2d(branching, phi_tilde2, phi2, px, py, out):
     """Interpolate ``phi_tilde`` at ``(px, py)``, clamped to the range of ``phi`` on the 4 nodes."""
     n0, n1 = phi2.shape
     pt, phi, x, y, o = phi_tilde2.ravel(), phi2.ravel(), px.ravel(), py.ravel(), out.ravel()
     one, sx = uint64(1), uint64(n1)
     for n in range(o.size):
-        i, fx = _base(x[n], n0)
-        j, fy = _base(y[n], n1)
+        i, fx = _base(x[n], n0, branching)
+        j, fy = _base(y[n], n1, branching)
         b = i * sx + j
         c = b + sx
         p0, p1, p2, p3 = phi[b], phi[b + one], phi[c], phi[c + one]
@@ -273,16 +294,16 @@ def limited_gather_2d(phi_tilde2, phi2, px, py, out):
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def limited_gather_3d(phi_tilde3, phi3, px, py, pz, out):
+def limited_gather_3d(branching, phi_tilde3, phi3, px, py, pz, out):
     """Interpolate ``phi_tilde`` at ``(px, py, pz)``, clamped to ``phi``'s range on the 8 nodes."""
     n0, n1, n2 = phi3.shape
     pt, phi, o = phi_tilde3.ravel(), phi3.ravel(), out.ravel()
     x, y, z = px.ravel(), py.ravel(), pz.ravel()
     one, sx, sy = uint64(1), uint64(n1 * n2), uint64(n2)
     for n in range(o.size):
-        i, fx = _base(x[n], n0)
-        j, fy = _base(y[n], n1)
-        k, fz = _base(z[n], n2)
+        i, fx = _base(x[n], n0, branching)
+        j, fy = _base(y[n], n1, branching)
+        k, fz = _base(z[n], n2, branching)
         b = i * sx + j * sy + k
         c, d = b + sy, b + sx
         e = d + sy

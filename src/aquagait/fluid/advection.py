@@ -57,7 +57,7 @@ def semi_lagrangian(
     for shape, members in _by_shape(fields).items():  # one trace per staggering
         ahead, _ = _trace(grid, carrier, shape, dt, both=False)
         for n in members:
-            out[n] = _run("gather", fields[n], *ahead, np.empty(shape))
+            out[n] = _run("gather", None, fields[n], *ahead, np.empty(shape))
     return tuple(out)
 
 
@@ -81,21 +81,40 @@ def bfecc(
     Raises:
         ValueError, grid.CFLError: as for ``semi_lagrangian``.
     """
+    return _bfecc(grid, carrier, fields, dt, limit, branching=None)
+
+
+def bfecc_previous(
+    grid: Grid, carrier: Velocity, fields: Sequence[np.ndarray], dt: float, limit: bool = True
+) -> Fields:
+    """``bfecc`` as compiled before issue 10: the same numbers bit for bit, slower.
+
+    Its kernels clamp coordinates with branches and convert them with
+    unsigned integers (``_interp``, ``branching=True``); ``bfecc`` does both
+    without branches. Kept so that ``aquagait bench swim --compare-advection``
+    times the two in one run (``EulerFluid(advect=bfecc_previous)``).
+    """
+    return _bfecc(grid, carrier, fields, dt, limit, branching=True)
+
+
+def _bfecc(grid, carrier, fields, dt, limit, branching):
+    """``bfecc``, with the kernels' clamping chosen by ``branching`` (None or True)."""
     carrier, fields = _checked(grid, carrier, fields, dt)
     if dt == 0:
         return tuple(f.copy() for f in fields)
     out = [None] * len(fields)
     for shape, members in _by_shape(fields).items():
-        ahead, back = _trace(grid, carrier, shape, dt, both=True)
+        ahead, back = _trace(grid, carrier, shape, dt, both=True, branching=branching)
         phi1, phi_tilde = _scratch(shape, 2, first=2 * len(shape))
         for n in members:
             phi = fields[n]
-            _run("gather", phi, *ahead, phi1)
-            _run("compensate", phi, phi1, *back, phi_tilde)
+            _run("gather", branching, phi, *ahead, phi1)
+            _run("compensate", branching, phi, phi1, *back, phi_tilde)
+            final = np.empty(shape)
             if limit:
-                out[n] = _run("limited_gather", phi_tilde, phi, *ahead, np.empty(shape))
+                out[n] = _run("limited_gather", branching, phi_tilde, phi, *ahead, final)
             else:
-                out[n] = _run("gather", phi_tilde, *ahead, np.empty(shape))
+                out[n] = _run("gather", branching, phi_tilde, *ahead, final)
     return tuple(out)
 
 
@@ -114,7 +133,8 @@ def advect_velocity(grid: Grid, velocity: Velocity, dt: float, scheme: Scheme = 
     return tuple(scheme(grid, velocity, velocity, dt))
 
 
-def _trace(grid: Grid, carrier: Velocity, shape: tuple[int, ...], dt: float, both: bool):
+def _trace(grid: Grid, carrier: Velocity, shape: tuple[int, ...], dt: float, both: bool,
+           branching=None):  # fmt: skip
     """Departure points over ``dt`` (and over ``-dt`` if ``both``) of a field of ``shape``.
 
     Returns:
@@ -125,7 +145,7 @@ def _trace(grid: Grid, carrier: Velocity, shape: tuple[int, ...], dt: float, bot
     points = _scratch(shape, 2 * len(shape) if both else len(shape))
     ahead, back = tuple(points[: len(shape)]), tuple(points[len(shape) :]) or None
     skip = (None,) * len(shape)
-    _run("departure", *carrier, *offsets, dt / grid.cell_size, *ahead, *(back or skip))
+    _run("departure", branching, *carrier, *offsets, dt / grid.cell_size, *ahead, *(back or skip))
     return ahead, back
 
 
@@ -154,9 +174,12 @@ def _scratch(shape: tuple[int, ...], count: int, first: int = 0) -> list[np.ndar
     return [buffer[n * size : (n + 1) * size].reshape(shape) for n in range(first, first + count)]
 
 
-def _run(kernel: str, *args):
-    """Call the 2D or 3D version of an ``_interp`` kernel, by the rank of its first array."""
-    getattr(_interp, f"{kernel}_{args[0].ndim}d")(*args)
+def _run(kernel: str, branching, *args):
+    """Call the 2D or 3D version of an ``_interp`` kernel, by the rank of its first array.
+
+    ``branching``: None for the branch-free kernels, True for the previous ones.
+    """
+    getattr(_interp, f"{kernel}_{args[0].ndim}d")(branching, *args)
     return args[-1]
 
 
