@@ -172,5 +172,69 @@ def _grid(creature) -> str:
 
 
 def compare_advection(repeats: int, out: TextIO) -> list[dict]:
-    """Placeholder until a second scheme exists."""
-    return []
+    """The coupled step with the previous and the current BFECC, in one run.
+
+    Each creature swims the same frames once with each scheme
+    (``EulerFluid(advect=...)``), frame about (``_interleaved_swims``);
+    printed: ms per step of the advection phase and of the whole step, the
+    schemes side by side with their ratio, and whether the two swims end at
+    the same body position bit for bit.
+
+    Returns:
+        one dict per creature with both schemes' figures.
+    """
+    import numpy as np
+
+    from aquagait.fluid.advection import bfecc, bfecc_previous
+
+    print(f"{'creature':<10}{'grid':>11}{'':>14}{'previous':>10}{'bfecc':>10}{'ratio':>8}",
+          file=out)  # fmt: skip
+    rows = []
+    for name in PAPER_SECONDS_PER_FRAME:
+        old, new = _interleaved_swims(name, (bfecc_previous, bfecc), repeats)
+        row = dict(creature=name, grid=old["grid"], previous=old, bfecc=new,
+                   same_qpos=bool(np.array_equal(old["qpos"], new["qpos"])))  # fmt: skip
+        rows.append(row)
+        for label, key in (("advect ms", "advect"), ("step ms", "step")):
+            a, b = old[key], new[key]
+            print(f"{name:<10}{row['grid']:>11}{label:>14}{a:>10.2f}{b:>10.2f}{a / b:>7.2f}x",
+                  file=out)  # fmt: skip
+        print(f"{'':<21}{'same qpos':>14}{'yes' if row['same_qpos'] else 'no':>20}", file=out)
+        out.flush()
+    return rows
+
+
+def _interleaved_swims(name: str, schemes, repeats: int) -> list[dict]:
+    """Swim ``name`` once per advection scheme, a frame of each in turn.
+
+    Taking turns spreads the load of a shared machine over all schemes alike.
+    Returns, per scheme: ms per step (advect and whole step) over the timed
+    frames, and the final q.
+    """
+    import aquagait as ag
+    from aquagait.sim import EulerFluid, advance
+
+    creature = ag.creatures.get(name)
+    swims = []
+    for advect in schemes:
+        scene = ag.make_scene(creature, fluid=EulerFluid(advect=advect))
+        policy, state = creature.policy(), ag.init_state(scene)
+        for _ in range(WARMUP_FRAMES):
+            state = advance(scene, state, policy, state.time + 1 / 30)
+        swims.append(dict(scene=scene, policy=policy, state=state, totals=defaultdict(float)))
+    for _ in range(repeats):
+        for swim in swims:
+            state, start = swim["state"], time.perf_counter()
+            with _timed_phases(swim["totals"]):
+                swim["state"] = advance(swim["scene"], state, swim["policy"], state.time + 1 / 30)
+            swim["totals"]["step"] += time.perf_counter() - start
+            swim["totals"]["steps"] += swim["state"].steps - state.steps
+    return [
+        dict(
+            grid=_grid(creature),
+            qpos=s["state"].qpos,
+            advect=1e3 * s["totals"]["advect"] / s["totals"]["steps"],
+            step=1e3 * s["totals"]["step"] / s["totals"]["steps"],
+        )  # fmt: skip
+        for s in swims
+    ]
