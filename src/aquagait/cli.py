@@ -93,10 +93,14 @@ def _cmd_optimize(args) -> int:
             seed=args.seed,
             resolution=args.resolution,
             cell_size=args.cell_size,
+            coarse=args.coarse,
+            refine_top=args.refine_top,
         )
         out = output_directory(args.out or Path("runs") / setup.creature.name)
     except SetupError as err:
         return _fail("optimize", err, status=2)
+    for note in setup.notes:
+        print(f"note: {note}", file=sys.stderr)
     return _optimize_and_swim(setup, out, args, video=not args.no_video)
 
 
@@ -328,6 +332,12 @@ def build_parser() -> argparse.ArgumentParser:
                           help="cells per axis: NX NY (2D) or NX NY NZ (3D)")  # fmt: skip
     optimize.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
     optimize.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME)")
+    optimize.add_argument("--coarse", type=float, metavar="FACTOR",
+                          help="rank samples on a grid FACTOR times coarser and swim each "
+                          "generation's best again on the target grid")  # fmt: skip
+    optimize.add_argument("--refine-top", type=int, default=2, metavar="K",
+                          help="with --coarse: samples a generation swum on the "
+                          "target grid")  # fmt: skip
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=_cmd_optimize)

@@ -18,12 +18,13 @@ checked before anything is simulated (``feasible``).
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from aquagait import creatures, objectives
+from aquagait.app.coarse import coarse_grid
 from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature
 from aquagait.app.swim import SwimSetup, prepare_swim
@@ -97,16 +98,25 @@ class OptimizationSetup:
     """Everything an optimization needs, resolved and checked.
 
     Attributes:
-        creature: the library creature.
-        objective: the swim objective.
-        problem: start, bounds, feasibility and groups for the optimizer.
+        creature: the creature.
+        objective: the swim objective the samples are ranked by.
+        problem: start, bounds, feasibility and groups for the optimizer; in a
+            coarse-to-fine search ``problem.refine`` is the swim on the target
+            grid and ``objective`` the one on the coarse grid.
         settings: population, generations, seed.
+        notes: what to know about the search (a coarse grid that may rank poorly).
     """
 
     creature: Creature
     objective: SwimObjective
     problem: Problem
     settings: Settings
+    notes: tuple[str, ...] = ()
+
+    @property
+    def target(self) -> SwimObjective:
+        """The swim the search is for: the refined one in a coarse-to-fine search."""
+        return self.problem.refine or self.objective
 
     def config(self) -> dict:
         """The resolved settings, for ``config.json``."""
@@ -119,6 +129,9 @@ class OptimizationSetup:
             parameters=list(self.problem.names), x0=self.problem.x0.tolist(),
             lower=self.problem.lower.tolist(), upper=self.problem.upper.tolist(),
             sigma0=self.problem.sigma0,
+            target_grid=None if self.problem.refine is None else
+            [self.target.resolution, self.target.cell_size],
+            refine_top=None if self.problem.refine is None else s.refine_top,
         )  # fmt: skip
 
 
@@ -131,6 +144,8 @@ def prepare_optimization(
     cell_size: float | None = None,
     fluid: str = "euler",
     cycles: float = DEFAULT_CYCLES,
+    coarse: float | None = None,
+    refine_top: int = 2,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -142,6 +157,10 @@ def prepare_optimization(
         resolution, cell_size: the fluid grid; default the creature's.
         fluid: 'euler', 'simple' or 'none'.
         cycles: gait cycles simulated per sample.
+        coarse: rank the samples on a grid this many times coarser
+            (``aquagait.app.coarse``) and swim each generation's best
+            ``refine_top`` again on the target grid; None: the target grid only.
+        refine_top: samples refined per generation in a coarse-to-fine search.
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
     """
@@ -170,6 +189,16 @@ def prepare_optimization(
     direction = (1.0,) + (0.0,) * (creature.dim - 1)
     seconds = cycles * period
     objective = SwimObjective(key, _tuple(resolution), cell_size, fluid, seconds, direction)
+    refine, notes = None, ()
+    if coarse is not None:
+        target = (_tuple(resolution) or creature.resolution, cell_size or creature.cell_size)
+        try:
+            grid = coarse_grid(creature, *target, coarse)
+        except ValueError as err:
+            raise OptimizationSetupError(f"the coarse grid: {err}") from None
+        refine = replace(objective, resolution=target[0], cell_size=target[1])
+        objective = replace(objective, resolution=grid.resolution, cell_size=grid.cell_size)
+        notes = grid.notes
     groups = gait.groups or ()
     problem = Problem(
         objective=objective,
@@ -180,9 +209,14 @@ def prepare_optimization(
         feasible=JointLimits(key),
         groups=tuple(gait.group_indices(k) for k in range(len(groups))) if len(groups) > 1 else (),
         names=gait.names,
+        refine=refine,
     )
-    settings = Settings(popsize=popsize, generations=generations, seed=seed)
-    return OptimizationSetup(creature, objective, problem, settings)
+    try:
+        settings = Settings(popsize=popsize, generations=generations, seed=seed,
+                            refine_top=refine_top)  # fmt: skip
+    except ValueError as err:
+        raise OptimizationSetupError(str(err)) from None
+    return OptimizationSetup(creature, objective, problem, settings, notes)
 
 
 def run_optimization(
@@ -215,7 +249,7 @@ def write_optimization(setup: OptimizationSetup, result: Result, out, plot: bool
 def best_swim(
     setup: OptimizationSetup, out, default_grid: bool = False, seconds: float | None = None
 ) -> SwimSetup:
-    """The swim of the gait in ``out/gait.json``, on the optimization's grid and fluid.
+    """The swim of the gait in ``out/gait.json``, on the optimization's (target) grid and fluid.
 
     Args:
         setup: the optimization.
@@ -224,7 +258,7 @@ def best_swim(
             searches on a coarse grid, then swims on the fine one).
         seconds: simulated time [s]; default the optimization's per sample.
     """
-    objective = setup.objective
+    objective = setup.target  # a coarse-to-fine search is for its target grid
     resolution, cell_size = (
         (None, None) if default_grid else (objective.resolution, objective.cell_size)
     )

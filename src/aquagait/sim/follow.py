@@ -84,7 +84,7 @@ def follow(scene: Scene, state: State, clearance: float) -> State:
     cells = tuple(int(c) for c in np.where(near, offset, 0))
     moved, velocity, pressure = shift(grid, state.velocity, cells, state.pressure)
     if np.any(room(moved, bounds) < clearance):
-        needed = smallest_resolution(bounds, grid.cell_size, clearance)
+        needed = np.maximum(smallest_resolution(bounds, grid.cell_size, clearance), grid.shape)
         raise BodyOutsideGrid(
             f"at t = {state.time:.4g} s the body ({_sides(bounds)} m) no longer fits in the "
             f"{_cells(grid.shape)} grid of {grid.cell_size:g} m cells with {clearance:g} cells "
@@ -120,9 +120,10 @@ def check_room(model: Model, grid: Grid, clearance: float) -> None:
 
 
 def smallest_resolution(bounds: np.ndarray, cell_size: float, clearance: float) -> tuple:
-    """Cells per axis that hold a box of these bounds with ``clearance`` cells on each side."""
+    """Cells per axis that hold a box of these bounds with ``clearance`` cells on each side,
+    wherever the whole-cell shifts leave it (one cell more than the box and clearances)."""
     sides = bounds[1] - bounds[0]
-    return tuple(math.ceil(s / cell_size + 2 * clearance - 1e-9) for s in sides)
+    return tuple(math.ceil(s / cell_size + 2 * clearance - 1e-9) + 1 for s in sides)
 
 
 def _cells(shape) -> str:

@@ -1,0 +1,75 @@
+"""The coarse grid of a coarse-to-fine search (DESIGN.md §2.9; ``Problem.refine``).
+
+Samples are ranked on a grid ``factor`` times coarser (in 3D, ``factor^3``
+fewer cells, and the CFL step grows with h), and the best of every
+generation are swum again on the target grid. The coarse grid spans at least
+the same water, and more where the 8 cells of clearance need it. A link
+thinner than about two coarse cells flickers in and out of the solid, so the
+coarse swim may rank gaits unlike the fine one: that is said in a note.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from aquagait.body.shape import body_shape, link_thickness
+from aquagait.creatures import Creature
+from aquagait.creatures.defaults import ROOM
+from aquagait.sim import CLEARANCE, make_scene
+
+THIN_CELLS = 2.0
+"""Below this many coarse cells a link's thickness earns a note."""
+
+
+@dataclass(frozen=True)
+class CoarseGrid:
+    """A coarse grid: ``resolution`` cells of ``cell_size`` [m], and what to know about it."""
+
+    resolution: tuple[int, ...]
+    cell_size: float
+    notes: tuple[str, ...] = ()
+
+
+def coarse_grid(creature: Creature, resolution, cell_size: float, factor: float) -> CoarseGrid:
+    """The grid ``factor`` (> 1) times coarser than ``resolution`` x ``cell_size``.
+
+    Each axis keeps at least the target grid's extent and holds the creature,
+    centred on its centre of mass, with ``CLEARANCE`` cells of water and
+    ``ROOM`` cells more on every side for the body to sweep as it swims (a
+    grid just holding the straight eel loses every sample when its tail swings).
+    """
+    if not (np.isfinite(factor) and factor > 1):
+        raise ValueError(f"the coarse grid's factor must be a number > 1, got {factor!r}")
+    model = creature.model
+    h = float(cell_size) * factor
+    centre = make_scene(model).dynamics.center_of_mass(model.qpos0)[: model.dim]
+    bounds = model.bounds[:, : model.dim]
+    half = np.maximum(centre - bounds[0], bounds[1] - centre)
+    coarse = tuple(
+        _even(max(math.ceil(n / factor), math.ceil(2 * x / h + 2 * (CLEARANCE + ROOM))))
+        for n, x in zip(resolution, half, strict=True)
+    )
+    make_scene(creature, coarse, h, fluid="euler")  # holds the body: raises if not
+    return CoarseGrid(coarse, h, _thin_notes(creature, h))
+
+
+def _even(n: int) -> int:
+    """``n`` rounded up to an even number of cells (the multigrid halves them)."""
+    return n + n % 2
+
+
+def _thin_notes(creature: Creature, h: float) -> tuple[str, ...]:
+    thickness = link_thickness(body_shape(creature.model, h))
+    thin = [k for k, t in enumerate(thickness) if 0 < t < THIN_CELLS * h]
+    if not thin:
+        return ()
+    k = min(thin, key=lambda k: thickness[k])
+    return (
+        f"{len(thin)} of {len(thickness)} links are under {THIN_CELLS:g} coarse cells thick "
+        f"(thinnest: {creature.model.links[k]!r}, {thickness[k] * 1000:.3g} mm = "
+        f"{thickness[k] / h:.2f} cells of {h * 1000:.3g} mm): the coarse swims may rank "
+        "gaits unlike the target grid's",
+    )
