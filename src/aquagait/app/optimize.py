@@ -191,14 +191,7 @@ def prepare_optimization(
     objective = SwimObjective(key, _tuple(resolution), cell_size, fluid, seconds, direction)
     refine, notes = None, ()
     if coarse is not None:
-        target = (_tuple(resolution) or creature.resolution, cell_size or creature.cell_size)
-        try:
-            grid = coarse_grid(creature, *target, coarse)
-        except ValueError as err:
-            raise OptimizationSetupError(f"the coarse grid: {err}") from None
-        refine = replace(objective, resolution=target[0], cell_size=target[1])
-        objective = replace(objective, resolution=grid.resolution, cell_size=grid.cell_size)
-        notes = grid.notes
+        objective, refine, notes = _coarse_to_fine(creature, objective, coarse)
     groups = gait.groups or ()
     problem = Problem(
         objective=objective,
@@ -227,6 +220,22 @@ def run_optimization(
         setup.problem, setup.settings, executor=executor, run_dir=run_dir, resume=resume,
         progress=progress,
     )  # fmt: skip
+
+
+def _coarse_to_fine(creature: Creature, objective: SwimObjective, factor: float):
+    """The swim on a grid ``factor`` times coarser that ranks the samples, the swim on the
+    target grid that refines the best, and notes on the coarse grid."""
+    target = (
+        objective.resolution or creature.resolution,
+        objective.cell_size or creature.cell_size,
+    )
+    try:
+        grid = coarse_grid(creature, *target, factor)
+    except ValueError as err:
+        raise OptimizationSetupError(f"the coarse grid: {err}") from None
+    refine = replace(objective, resolution=tuple(resolution), cell_size=cell_size)
+    coarse = replace(objective, resolution=grid.resolution, cell_size=grid.cell_size)
+    return coarse, refine, grid.notes
 
 
 def write_optimization(setup: OptimizationSetup, result: Result, out, plot: bool = True) -> Path:
