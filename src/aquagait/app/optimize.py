@@ -225,12 +225,10 @@ def run_optimization(
 def _coarse_to_fine(creature: Creature, objective: SwimObjective, factor: float):
     """The swim on a grid ``factor`` times coarser that ranks the samples, the swim on the
     target grid that refines the best, and notes on the coarse grid."""
-    target = (
-        objective.resolution or creature.resolution,
-        objective.cell_size or creature.cell_size,
-    )
+    resolution = objective.resolution or creature.resolution
+    cell_size = objective.cell_size or creature.cell_size
     try:
-        grid = coarse_grid(creature, *target, factor)
+        grid = coarse_grid(creature, resolution, cell_size, factor)
     except ValueError as err:
         raise OptimizationSetupError(f"the coarse grid: {err}") from None
     refine = replace(objective, resolution=tuple(resolution), cell_size=cell_size)
