@@ -17,6 +17,7 @@ import numpy as np
 
 from aquagait.body.shape import body_shape, link_thickness
 from aquagait.creatures import Creature
+from aquagait.creatures.creature import smallest_grid
 from aquagait.creatures.defaults import ROOM
 from aquagait.sim import CLEARANCE, make_scene
 
@@ -43,14 +44,10 @@ def coarse_grid(creature: Creature, resolution, cell_size: float, factor: float)
     """
     if not (np.isfinite(factor) and factor > 1):
         raise ValueError(f"the coarse grid's factor must be a number > 1, got {factor!r}")
-    model = creature.model
     h = float(cell_size) * factor
-    centre = make_scene(model).dynamics.center_of_mass(model.qpos0)[: model.dim]
-    bounds = model.bounds[:, : model.dim]
-    half = np.maximum(centre - bounds[0], bounds[1] - centre)
+    body = smallest_grid(creature.model, h, CLEARANCE + ROOM)
     coarse = tuple(
-        _even(max(math.ceil(n / factor), math.ceil(2 * x / h + 2 * (CLEARANCE + ROOM))))
-        for n, x in zip(resolution, half, strict=True)
+        _even(max(math.ceil(n / factor), m)) for n, m in zip(resolution, body, strict=True)
     )
     make_scene(creature, coarse, h, fluid="euler")  # holds the body: raises if not
     return CoarseGrid(coarse, h, _thin_notes(creature, h))

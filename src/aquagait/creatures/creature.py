@@ -9,7 +9,6 @@ side-car; the checks here hold for any creature, however it was built.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,7 +19,7 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
 from aquagait.control.gait import GaitSpec
 from aquagait.control.pd import StablePD
-from aquagait.sim.follow import CLEARANCE
+from aquagait.sim.follow import CLEARANCE, cells_around
 
 
 class CreatureError(ValueError):
@@ -149,9 +148,7 @@ def smallest_grid(model: Model, cell_size: float, clearance: int = CLEARANCE) ->
     """
     dim = model.dim
     com = Dynamics(model.mj).center_of_mass(model.qpos0)[:dim]
-    lo, hi = model.bounds[0, :dim], model.bounds[1, :dim]
-    half = np.maximum(com - lo, hi - com)
-    return tuple(math.ceil(2 * x / cell_size + 2 * clearance - 1e-9) for x in half)
+    return cells_around(model.bounds[:, :dim], com, cell_size, clearance)
 
 
 def creature_problems(c: Creature) -> list[str]:

@@ -106,11 +106,8 @@ def check_room(model: Model, grid: Grid, clearance: float) -> None:
     if np.all(room(grid, bounds) >= clearance):
         return
     centre = np.asarray(grid.origin) + 0.5 * np.asarray(grid.extent)
-    half = np.maximum(centre - bounds[0], bounds[1] - centre)
-    needed = tuple(
-        max(n, math.ceil(2 * x / grid.cell_size + 2 * clearance - 1e-9))
-        for n, x in zip(grid.shape, half, strict=True)
-    )
+    around = cells_around(bounds, centre, grid.cell_size, clearance)
+    needed = tuple(max(n, m) for n, m in zip(grid.shape, around, strict=True))
     raise ValueError(
         f"the {_cells(grid.shape)} grid of {grid.cell_size:g} m cells cannot hold "
         f"{model.source} ({_sides(bounds)} m) with {clearance:g} cells of water on every "
@@ -119,11 +116,18 @@ def check_room(model: Model, grid: Grid, clearance: float) -> None:
     )
 
 
+def cells_around(bounds: np.ndarray, centre, cell_size: float, clearance: float) -> tuple:
+    """Cells per axis of the smallest grid centred on ``centre`` that holds a box of these
+    bounds, (2, dim) [m], with ``clearance`` cells of water on either side."""
+    half = np.maximum(np.asarray(centre) - bounds[0], bounds[1] - np.asarray(centre))
+    return tuple(math.ceil(2 * x / cell_size + 2 * clearance - 1e-9) for x in half)
+
+
 def smallest_resolution(bounds: np.ndarray, cell_size: float, clearance: float) -> tuple:
     """Cells per axis that hold a box of these bounds with ``clearance`` cells on each side,
     wherever the whole-cell shifts leave it (one cell more than the box and clearances)."""
-    sides = bounds[1] - bounds[0]
-    return tuple(math.ceil(s / cell_size + 2 * clearance - 1e-9) + 1 for s in sides)
+    centred = cells_around(bounds, bounds.mean(axis=0), cell_size, clearance)
+    return tuple(n + 1 for n in centred)
 
 
 def _cells(shape) -> str:
