@@ -11,7 +11,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from aquagait.body.shape import BodyShape
+from aquagait.body.shape import BodyShape, turned_boxes
 from aquagait.body.voxelize import baked_arrays, cell_range, checked_pose, link_distance
 
 __all__ = ["MAX_OVERLAP_SAMPLES", "overlap_volume"]
@@ -64,13 +64,10 @@ def overlap_volume(shape: BodyShape, link_pos, link_rot, spacing: float) -> floa
 
 def _bounds(shape: BodyShape, pos: np.ndarray, rot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """World bounding box (lo, hi) of every link's baked grid [m]."""
-    corners = np.array(np.meshgrid([0, 1], [0, 1], [0, 1], indexing="ij")).reshape(3, -1).T
-    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
-    for k in np.flatnonzero(shape.dims[:, 0] > 0):
-        local = shape.lower[k] + corners * (shape.dims[k] - 1) * shape.spacing
-        world = pos[k] + local @ rot[k].T
-        lo, hi = np.minimum(lo, world.min(axis=0)), np.maximum(hi, world.max(axis=0))
-    return lo, hi
+    k = np.flatnonzero(shape.dims[:, 0] > 0)
+    lower = shape.lower[k]
+    box = turned_boxes(lower, lower + (shape.dims[k] - 1) * shape.spacing, pos[k], rot[k])
+    return box[0], box[1]
 
 
 def _apart_masks(parent: np.ndarray) -> np.ndarray:

@@ -125,8 +125,8 @@ def body_shape(model, cell_size: float, refine: int = REFINE) -> BodyShape:
     grids, lowers, bounds = [], [], []
     for k, name in enumerate(facts.link_names):
         geoms = np.flatnonzero(facts.geom_link == k)
-        phi, lower = _bake_link(facts, faces, geoms, k, spacing, model.dim)
         bounds.append(_link_bounds(facts, geoms, k))
+        phi, lower = _bake_link(facts, faces, geoms, k, bounds[-1], spacing, model.dim)
         if phi.size > MAX_SAMPLES:
             raise ValueError(
                 f"{model.source}: link {name!r} needs {phi.size} signed-distance samples at "
@@ -179,22 +179,35 @@ def world_bounds(shape: BodyShape, link_pos, link_rot) -> np.ndarray:
     lo, hi = shape.bounds[has_geoms, 0], shape.bounds[has_geoms, 1]
     if shape.dim == 2:
         lo, hi = lo * [1, 1, 0], hi * [1, 1, 0]  # the cross-section at z = 0
+    turn = np.asarray(link_rot)[has_geoms] @ np.swapaxes(shape.rest_rot[has_geoms], 1, 2)
+    return turned_boxes(lo, hi, np.asarray(link_pos)[has_geoms], turn)
+
+
+def turned_boxes(lo, hi, pos, turn) -> np.ndarray:
+    """The world box, (2, 3) lower and upper corners [m], holding n boxes turned and placed.
+
+    Args:
+        lo, hi: (n, 3) corners of each box in its own frame [m].
+        pos: (n, 3) world position of each frame's origin [m].
+        turn: (n, 3, 3) rotation from each frame to the world.
+    """
     corners = np.stack(
         [np.where(np.array(c, bool), hi, lo) for c in np.ndindex(2, 2, 2)], axis=1
-    )  # (n, 8, 3) in each link's rest frame
-    turn = np.asarray(link_rot)[has_geoms] @ np.swapaxes(shape.rest_rot[has_geoms], 1, 2)
-    world = np.asarray(link_pos)[has_geoms, None, :] + np.einsum("kij,kcj->kci", turn, corners)
-    world = world.reshape(-1, 3)
+    )  # (n, 8, 3)
+    world = (pos[:, None, :] + np.einsum("kij,kcj->kci", turn, corners)).reshape(-1, 3)
     return np.stack([world.min(axis=0), world.max(axis=0)])
 
 
-def _bake_link(facts, faces, geoms, k, spacing, dim):
-    """Signed distance of one link's geoms on its rest-frame sample grid, and its corner."""
+def _bake_link(facts, faces, geoms, k, bounds, spacing, dim):
+    """Signed distance of one link's geoms on its rest-frame sample grid, and its corner.
+
+    ``bounds``: (2, 3) the geoms' box in the link's rest frame (``_link_bounds``) [m].
+    """
     if geoms.size == 0:
         return np.zeros((0, 0, 0)), np.zeros(3)
     origin = facts.link_pos[k]
-    lo = facts.geom_box[geoms, 0].min(axis=0) - origin - PAD * spacing
-    hi = facts.geom_box[geoms, 1].max(axis=0) - origin + PAD * spacing
+    lo = bounds[0] - PAD * spacing
+    hi = bounds[1] + PAD * spacing
     counts = np.ceil((hi - lo) / spacing).astype(int) + 1
     if dim == 2:
         lo[2], counts[2] = 0.0, 1  # the cross-section at z = 0
