@@ -44,7 +44,7 @@ from aquagait.creatures import Creature
 from aquagait.grid import Grid
 from aquagait.io.run import read_json, write_json
 from aquagait.sim import CLEARANCE, Scene, make_scene
-from aquagait.sim.follow import room
+from aquagait.sim.follow import check_room, room
 
 THIN_CELLS = 2.0
 """A link should be at least this many cells thick (DESIGN.md §2.8)."""
@@ -163,7 +163,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
             "natural_frequency": creature.natural_frequency,
             "damping_ratio": creature.damping_ratio,
         },
-        "notes": [*getattr(model, "notes", ()), *getattr(creature, "notes", ())],
+        "notes": [*model.notes, *creature.notes],
     }
     numbers["warnings"] = _warnings(numbers, shape)
     return CheckReport(setup, numbers, shape, voxels, link_pos, link_rot)
@@ -287,7 +287,7 @@ def _clearance(creature: Creature, grid: Grid) -> dict:
     model = creature.model
     water = float(room(grid, model.bounds[:, : model.dim]).min())
     try:
-        make_scene(creature, fluid="euler")
+        check_room(model, grid, CLEARANCE)  # what make_scene(..., fluid="euler") asks
         error = None
     except ValueError as err:
         error = str(err)
