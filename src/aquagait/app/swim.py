@@ -23,7 +23,7 @@ from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature
 from aquagait.creatures import Creature
 from aquagait.io.gait import GaitFileError, read_gait, write_gait
-from aquagait.io.run import library_versions, read_json, write_json, write_run
+from aquagait.io.run import library_versions, write_run
 from aquagait.metrics import NoSteadyWindow, steady_metrics, travel_metrics
 from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
 
@@ -197,10 +197,9 @@ def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progre
         progress: optional ``progress(frames_done, frames_total)`` while rendering.
     """
     creature = run.setup.creature
-    out = write_run(out, run.trajectory, run.config, run.metrics, model=creature.model)
+    config = {**run.config, **(extra_config or {})}
+    out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
     write_gait(out / "gait.json", creature, run.setup.params)
-    if extra_config:
-        write_json(out / "config.json", {**read_json(out / "config.json"), **extra_config})
     if video:
         from aquagait.viz import render_swim
 
