@@ -52,7 +52,7 @@ def run(repeats: int, out: TextIO) -> list[dict]:
         per_frame, steps = _time_frames(ag.make_scene(creature, fluid="euler"), creature, repeats)
         row = dict(
             creature=name,
-            grid="x".join(map(str, creature.resolution)),
+            grid=_grid(creature),
             seconds_per_frame=per_frame,
             steps_per_frame=steps,
             paper=paper,
@@ -89,9 +89,7 @@ def profile(repeats: int, out: TextIO, creatures=PROFILED) -> list[dict]:
     for name in creatures:
         creature = ag.creatures.get(name)
         scene = ag.make_scene(creature, fluid="euler")
-        policy, state = creature.policy(), ag.init_state(scene)
-        for _ in range(WARMUP_FRAMES):
-            state = advance(scene, state, policy, state.time + 1 / 30)
+        policy, state = _warmed_up(scene, creature)
         totals, steps, wall = defaultdict(float), 0, 0.0
         for _ in range(repeats):
             start, before = time.perf_counter(), state.steps
@@ -150,20 +148,28 @@ def _print_profile(row: dict, out: TextIO) -> None:
     out.flush()
 
 
-def _time_frames(scene, creature, repeats: int) -> tuple[float, float]:
-    """Median wall time of a frame after the warm-up, and median steps per frame."""
+def _warmed_up(scene, creature):
+    """The creature's policy and its state after ``WARMUP_FRAMES`` frames of swimming."""
     import aquagait as ag
     from aquagait.sim import advance
 
     policy, state = creature.policy(), ag.init_state(scene)
+    for _ in range(WARMUP_FRAMES):
+        state = advance(scene, state, policy, state.time + 1 / 30)
+    return policy, state
+
+
+def _time_frames(scene, creature, repeats: int) -> tuple[float, float]:
+    """Median wall time of a frame after the warm-up, and median steps per frame."""
+    from aquagait.sim import advance
+
+    policy, state = _warmed_up(scene, creature)
     seconds, steps = [], []
-    for frame in range(WARMUP_FRAMES + repeats):
+    for _ in range(repeats):
         start, before = time.perf_counter(), state.steps
         state = advance(scene, state, policy, state.time + 1 / 30)
-        elapsed = time.perf_counter() - start
-        if frame >= WARMUP_FRAMES:
-            seconds.append(elapsed)
-            steps.append(state.steps - before)
+        seconds.append(time.perf_counter() - start)
+        steps.append(state.steps - before)
     return statistics.median(seconds), statistics.median(steps)
 
 
@@ -218,9 +224,7 @@ def _interleaved_swims(name: str, schemes, repeats: int) -> list[dict]:
     swims = []
     for advect in schemes:
         scene = ag.make_scene(creature, fluid=EulerFluid(advect=advect))
-        policy, state = creature.policy(), ag.init_state(scene)
-        for _ in range(WARMUP_FRAMES):
-            state = advance(scene, state, policy, state.time + 1 / 30)
+        policy, state = _warmed_up(scene, creature)
         swims.append(dict(scene=scene, policy=policy, state=state, totals=defaultdict(float)))
     for _ in range(repeats):
         for swim in swims:
