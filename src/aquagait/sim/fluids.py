@@ -70,11 +70,23 @@ class FluidModel(Protocol):
     name: ClassVar[str]
     max_dt: float
 
-    def bind(self, model: Model, grid: Grid | None) -> FluidModel: ...
-    def init(self, scene: Scene, state: State) -> State: ...
-    def step(self, scene: Scene, state: State, dt: float, policy) -> State: ...
-    def longest_step(self, state: State, dt: float) -> float: ...
-    def settings(self) -> dict: ...
+    def bind(self, model: Model, grid: Grid | None) -> FluidModel:
+        """This model with what it bakes for the creature on this grid (None: no grid).
+
+        Raises ValueError when the model cannot simulate it (e.g. no grid, or
+        one too small)."""
+
+    def init(self, scene: Scene, state: State) -> State:
+        """``state`` with this fluid's fields at rest (face velocities [m/s], pressure [Pa])."""
+
+    def step(self, scene: Scene, state: State, dt: float, policy) -> State:
+        """The state ``dt`` [s] later under ``policy`` (``aquagait.sim.servo``)."""
+
+    def longest_step(self, state: State, dt: float) -> float:
+        """The largest stable step [s] from ``state``, at most ``dt``."""
+
+    def settings(self) -> dict:
+        """The model's parameters as plain values, for ``config.json``."""
 
 
 @dataclass(frozen=True)
