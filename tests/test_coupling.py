@@ -6,15 +6,16 @@ import numpy as np
 import pytest
 
 import aquagait as ag
+from aquagait.body.subcell import voxelize_subcell
 from aquagait.body.voxelize import voxelize
 from aquagait.coupling import (
     CoupledProblem,
-    coupled_rows,
     dense_coupled_system,
     face_area,
     solve_coupled,
+    volume_change,
+    water_fractions,
 )
-from aquagait.fluid.projection import fluid_outflow, set_solid_faces_
 from aquagait.sim import EulerFluid
 
 TIGHT = EulerFluid(clearance=0)
@@ -40,12 +41,18 @@ def ball_scene(dim, cells, radius_cells, size=1.0, offset=None):
     return ag.make_scene(ag.load_model(xml), (cells,) * dim, h, fluid=TIGHT, origin=origin)
 
 
-def problem(scene, seed=0):
+BOUNDARIES = [
+    pytest.param(voxelize, id="staircase"),
+    pytest.param(voxelize_subcell, id="subcell"),
+]
+
+
+def problem(scene, seed=0, boundary=voxelize):
     """Everything a coupled solve takes, with random u* and qd* at the reference pose."""
     rng = np.random.default_rng(seed)
     grid, dynamics = scene.grid, scene.dynamics
     q = scene.model.qpos0
-    voxels = voxelize(scene.shape, grid, *dynamics.link_poses(q))
+    voxels = boundary(scene.shape, grid, *dynamics.link_poses(q))
     u_star = tuple(rng.standard_normal(grid.face_shape(a)) for a in range(grid.dim))
     qd_star = rng.standard_normal(scene.model.nv)
     mass_t = dynamics.mass_matrix(q) + np.diag(rng.uniform(0, 0.1, scene.model.nv))
@@ -66,9 +73,10 @@ CASES = [
 ]
 
 
+@pytest.mark.parametrize("boundary", BOUNDARIES)
 @pytest.mark.parametrize("make", CASES)
-def test_fast_solve_equals_the_dense_physical_assembly(make):
-    args = problem(make())
+def test_fast_solve_equals_the_dense_physical_assembly(make, boundary):
+    args = problem(make(), boundary=boundary)
     matrix, rhs, cells = dense_coupled_system(args)
     exact = np.linalg.solve(matrix, rhs)
     fast = solve_coupled(args, tol=1e-10)
@@ -76,51 +84,54 @@ def test_fast_solve_equals_the_dense_physical_assembly(make):
     np.testing.assert_allclose(fast.pressure[tuple(cells.T)], exact, atol=1e-7 * scale)
 
 
+@pytest.mark.parametrize("boundary", BOUNDARIES)
 @pytest.mark.parametrize("make", CASES)
-def test_coupled_operator_is_symmetric_positive_definite(make):
-    matrix, _, _ = dense_coupled_system(problem(make()))
+def test_coupled_operator_is_symmetric_positive_definite(make, boundary):
+    matrix, _, _ = dense_coupled_system(problem(make(), boundary=boundary))
     asymmetry = np.abs(matrix - matrix.T).max() / np.abs(matrix).max()
     assert asymmetry < 1e-12
     assert np.linalg.eigvalsh(0.5 * (matrix + matrix.T)).min() > 0
 
 
+@pytest.mark.parametrize("boundary", BOUNDARIES)
 @pytest.mark.parametrize("make", CASES)
-def test_after_the_solve_no_fluid_cell_gains_or_loses_volume(make):
-    """Fluid faces plus the body's normal velocity on coupled faces: zero net outflow."""
-    args = problem(make(), seed=1)
+def test_after_the_solve_no_fluid_cell_gains_or_loses_volume(make, boundary):
+    """The water's share of every face plus the body's: zero net outflow."""
+    args = problem(make(), seed=1, boundary=boundary)
     fast = solve_coupled(args, tol=1e-9)
-    grid, voxels = args.grid, args.voxels
-    u = tuple(c.copy() for c in fast.velocity)
-    set_solid_faces_(grid, u, voxels.solid)
-    outflow = args.area * fluid_outflow(grid, u, voxels.solid)
-    rows = coupled_rows(voxels, args.jacobians, args.area)
-    np.add.at(outflow, tuple(voxels.face_cell.T), -rows @ fast.qvel)
+    outflow = volume_change(args, fast.velocity, fast.qvel)
     speed = max(np.abs(c).max() for c in args.velocity_star)
     assert np.abs(outflow).max() <= 1e-8 * speed * args.area
 
 
-def test_pressure_moves_no_momentum_out_of_fluid_plus_body():
+@pytest.mark.parametrize("boundary", BOUNDARIES)
+def test_pressure_moves_no_momentum_out_of_fluid_plus_body(boundary):
     """Momentum is accounted for: in the pressure phase the body gains exactly
-    the impulse -dt B p of the pressure on its surface, the fluid exactly the
-    opposite, and the open boundary (p = 0 outside) pushes with nothing."""
+    the impulse of the pressure difference across the solid part of every
+    coupled face, ``(1 - w) A (p_lo - p_hi)``, the water on every face (weighted
+    by its fraction) exactly the opposite, and the open boundary (p = 0
+    outside) pushes with nothing."""
     scene = ball_scene(2, 24, 4.3)
     mass = scene.dynamics.mass_matrix(scene.model.qpos0)  # no PD damping here
-    args = replace(problem(scene, seed=2), mass_t=mass)
+    args = replace(problem(scene, seed=2, boundary=boundary), mass_t=mass)
     grid, voxels, dt, rho, area = args.grid, args.voxels, args.dt, args.density, args.area
     fast = solve_coupled(args, tol=1e-10)
-    normal = np.zeros((len(voxels.face_axis), 3))
-    normal[np.arange(len(normal)), voxels.face_axis] = voxels.face_sign
-    p_faces = fast.pressure[tuple(voxels.face_cell.T)]
-    surface_force = -(p_faces[:, None] * area * normal).sum(axis=0)[:2]
+    ghosted = np.pad(fast.pressure, 1)
+    surface_force = np.zeros(2)
+    for axis, index, w in zip(voxels.face_axis, voxels.face_index, voxels.face_weight,
+                              strict=True):  # fmt: skip
+        above = tuple(index + 1)
+        below = tuple(index + 1 - np.eye(2, dtype=int)[axis])
+        surface_force[axis] += (1 - w) * area * (ghosted[below] - ghosted[above])
     body_change = scene.model.mass * (fast.qvel[:2] - args.qvel_star[:2])
     np.testing.assert_allclose(body_change, dt * surface_force, rtol=1e-10)
-    before = tuple(c.copy() for c in args.velocity_star)
-    after = tuple(c.copy() for c in fast.velocity)
-    for field in (before, after):
-        set_solid_faces_(grid, field, voxels.solid)  # the fluid's faces only
+    fractions = water_fractions(grid, voxels)
     cell_volume = area * grid.cell_size
     fluid_change = np.array(
-        [rho * cell_volume * (a - b).sum() for a, b in zip(after, before, strict=True)]
+        [
+            rho * cell_volume * (w * (a - b)).sum()
+            for w, a, b in zip(fractions, fast.velocity, args.velocity_star, strict=True)
+        ]
     )
     assert np.abs(fluid_change + body_change).max() < 1e-10 * np.abs(body_change).max()
 

@@ -1,41 +1,56 @@
 """Two-way coupling: fluid and articulated body in one SPD pressure solve (paper §3.3).
 
-Derivation (DESIGN.md §2.3). Cells are FLUID or SOLID (inside a link, or a
-fluid pocket sealed in by links). A *coupled face* f lies between a fluid cell
-c(f) and a solid cell owned by link k(f); its unit normal ``n_f = s_f e_a``
-points from the solid into the fluid, its centre is ``x_f``, its area ``A``
-(``h^2`` in 3D; ``h * depth`` in 2D, where the fluid is a slab as deep as the
-creature's prism). ``J_f`` (3 x nv) is the Jacobian of the point ``x_f`` moving
-with link k(f), so the body's velocity there is ``J_f qd``.
+Derivation (DESIGN.md §2.3), for faces that may be partly solid (Batty,
+Bertails and Bridson 2007). Every face f near the body has a water fraction
+``w_f`` in [0, 1] (``Voxels.face_weight``; faces away from the body have
+``w = 1``): the share of its control volume, the box of one cell centred on
+the face, that is water. The staircase (``aquagait.body.voxelize``) is the
+special case ``w = 0`` on every coupled face, with a solid cell on one side;
+``aquagait.body.subcell`` gives fractions between. Cells with no open face
+are SOLID (no pressure unknown); ghost cells outside the grid hold ``p = 0``
+(open boundary). A coupled face f, normal to axis a, cuts link k(f); ``J_f``
+(3 x nv) is the Jacobian of its centre ``x_f`` moving with k(f), so the
+body's velocity along the axis there is ``V_f = e_a . J_f qd``. ``A`` is a
+face's area (``h^2`` in 3D; ``h * depth`` in 2D, where the fluid is a slab as
+deep as the creature's prism).
 
-Unknowns: the pressure ``p`` of the fluid cells; ghost cells outside the grid
-hold ``p = 0`` (open boundary). Given ``u*`` (advected) and ``qd*`` (the body
-predicted without pressure, ``Mt qd* = Mt qd - dt (c + PD terms)``):
+Given ``u*`` (advected) and ``qd*`` (the body predicted without pressure,
+``Mt qd* = Mt qd - dt (c + PD terms)``):
 
-1. Fluid faces (both sides fluid or ghost) feel the pressure gradient:
+1. The water on a face with ``w_f > 0`` feels the pressure gradient:
    ``u_f = u*_f - dt / (rho h) (p_hi - p_lo)``.
-2. The fluid at pressure ``p_c`` pushes on the body's surface with force
-   ``-p_c A n_f`` at ``x_f`` (into the solid). Its generalized force is
-   ``sum_f J_f^T (-p_c A n_f) = -B p`` with ``B = sum_f A J_f^T n_f e_c(f)^T``
-   (nv x cells), so ``Mt qd = Mt qd* - dt B p``:  ``qd = qd* - dt Mt^-1 B p``.
-3. A coupled face moves with the body: its normal velocity is ``n_f . J_f qd``.
-4. No fluid cell gains or loses volume. Outflow of cell c through a fluid face
-   is ``A u.n_out``; summed, ``A (D u*)_c + A dt / (rho h) (L p)_c`` where
-   ``D`` sums over fluid faces only and ``L p = sum (p_c - p_neighbour)``
-   (ghosts count, coupled faces do not). Through a coupled face the outward
-   normal of c is ``-n_f``, so the outflow is ``-A n_f . J_f qd``; summed over
-   c's coupled faces, ``-(B^T qd)_c``. Zero net outflow with step 2:
+2. The solid part of f's control volume, ``(1 - w_f) A h``, feels the same
+   gradient: the force on it along ``e_a`` is ``(1 - w_f) A (p_lo - p_hi)``
+   (the pressure integrated over the body's surface, written as the integral
+   of ``-grad p`` over the body's volume with ``p = 0`` in solid cells). At a
+   staircase face with water above, that is ``-p_c A n_f``, ``n_f = e_a``
+   pointing into the water. Its generalized force is ``-B p`` with
+   ``B = sum_f (1 - w_f) A J_f^T sum_c n_fc e_c^T``, where ``c`` runs over the
+   one or two cells with water beside f and ``n_fc = +e_a`` for the cell
+   above, ``-e_a`` below (the normal from f's solid part into c). So
+   ``Mt qd = Mt qd* - dt B p``:  ``qd = qd* - dt Mt^-1 B p``.
+3. Through f, water crosses at ``u_f`` over ``w_f A`` and the body at
+   ``V_f`` over ``(1 - w_f) A``.
+4. No cell with water gains or loses volume. Summed over its faces, cell c's
+   outflow is ``A (D_w u*)_c + A dt / (rho h) (L_w p)_c - (B^T qd)_c`` where
+   ``D_w`` sums ``w_f u_f`` over faces, ``L_w p = sum_f w_f (p_c - p_n)``
+   (ghosts count) and ``(B^T qd)_c = sum_f (1 - w_f) A n_fc . J_f qd``. With
+   step 2:
 
-       A D u* + A dt / (rho h) L p - B^T qd* + dt B^T Mt^-1 B p = 0
+       A D_w u* + A dt / (rho h) L_w p - B^T qd* + dt B^T Mt^-1 B p = 0
 
    and multiplying by ``rho h / (dt A)``:
 
-       (L + (rho h / A) B^T Mt^-1 B) p = (rho h / (dt A)) (B^T qd* - A D u*).
+       (L_w + (rho h / A) B^T Mt^-1 B) p = (rho h / (dt A)) (B^T qd* - A D_w u*).
 
-``L`` is SPD when every fluid region touches the open boundary (pockets are
-sealed), and ``B^T Mt^-1 B`` is PSD of rank at most nv, so CG applies; the
-body term enters ``pcg`` as a ``LowRank`` with rows ``A n_f^T J_f`` (one per
-coupled face, at cell c(f)) and core ``(rho h / A) Mt^-1``.
+The same matrix is the Hessian of the kinetic energy of fluid plus body as a
+function of the pressure impulse, so the pressure makes that energy least.
+``L_w`` is SPD when every cell with water reaches the open boundary through
+open faces (pockets are sealed), and ``B^T Mt^-1 B`` is PSD of rank at most
+nv, so CG applies. ``L_w`` enters ``pcg`` as the unweighted Laplacian plus
+``PartialFaces``; the body term as a ``LowRank`` with rows
+``(1 - w_f) A n_fc^T J_f`` (one per coupled face and cell beside it) and core
+``(rho h / A) Mt^-1``.
 
 ``dense_coupled_system`` assembles the same equations from the physics
 (apply a unit pressure in one cell, measure every cell's outflow) rather than
@@ -46,12 +61,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from aquagait.body.voxelize import Voxels
 from aquagait.fluid.operators import net_outflow
-from aquagait.fluid.pcg import LowRank, PressureSystem, pcg, pressure_system
+from aquagait.fluid.pcg import LowRank, PartialFaces, PressureSystem, pcg, pressure_system
 from aquagait.fluid.projection import (
     fluid_outflow,
     set_solid_faces_,
@@ -97,26 +113,48 @@ def face_area(grid: Grid, depth: float | None) -> float:
     return grid.cell_size * depth
 
 
-def coupled_rows(voxels: Voxels, jacobians: np.ndarray, area: float) -> np.ndarray:
-    """Rows of ``B^T``, one per coupled face: ``A n_f^T J_f``, (m, nv) [m^2].
+def coupled_rows(voxels: Voxels, jacobians: np.ndarray, area: float):
+    """The nonzero rows of ``B^T``: ``(1 - w_f) A n_fc^T J_f`` per coupled face f and
+    cell c with water beside it (module docstring).
 
     Args:
         voxels: the voxelized body.
         jacobians: (m, 3, nv) point Jacobians at the coupled face centres.
         area: ``A`` [m^2].
+    Returns:
+        ``(cells, rows)``: (e, dim) the cell of each row, and the rows (e, nv) [m^2].
     """
-    m = len(voxels.face_axis)
-    return area * voxels.face_sign[:, None] * jacobians[np.arange(m), voxels.face_axis, :]
+    face, cell, sign = voxels.sides()
+    solid = area * (1.0 - voxels.face_weight[face]) * sign
+    return cell, solid[:, None] * jacobians[face, voxels.face_axis[face], :]
+
+
+def partial_faces(voxels: Voxels) -> PartialFaces:
+    """The coupled faces with water on both sides (or water and the open border),
+    which the Laplacian weights by their water fraction (module docstring)."""
+    shape = np.array(voxels.solid.shape)
+    below = voxels.face_index - np.eye(len(shape), dtype=np.int64)[voxels.face_axis]
+    above = voxels.face_index
+    both = np.ones(voxels.face_count, bool)
+    for cell in (below, above):
+        inside = np.all((cell >= 0) & (cell < shape), axis=1)
+        both[inside] &= ~voxels.solid[tuple(cell[inside].T)]
+    return PartialFaces(below[both], above[both], voxels.face_weight[both])
 
 
 def coupled_system(
-    voxels: Voxels, rows: np.ndarray, mass_t: np.ndarray, grid: Grid, density: float, area: float
+    voxels: Voxels,
+    rows: tuple[np.ndarray, np.ndarray],
+    mass_t: np.ndarray,
+    grid: Grid,
+    density: float,
+    area: float,
 ) -> PressureSystem:
-    """The operator ``L + (rho h / A) B^T Mt^-1 B`` for ``pcg``.
+    """The operator ``L_w + (rho h / A) B^T Mt^-1 B`` for ``pcg``.
 
     Args:
-        voxels: solid cells and coupled faces.
-        rows: ``coupled_rows`` (m, nv).
+        voxels: cells without water and coupled faces.
+        rows: ``coupled_rows``: cells (e, dim) and rows (e, nv).
         mass_t: ``Mt = M + dt Kd``, (nv, nv).
         grid: the MAC grid.
         density: ``rho`` [kg/m^3].
@@ -124,8 +162,10 @@ def coupled_system(
     """
     core = (density * grid.cell_size / area) * np.linalg.inv(mass_t)
     core = 0.5 * (core + core.T)  # symmetric to round-off, as CG assumes
-    low_rank = LowRank(voxels.face_cell, rows, core)
-    return pressure_system(voxels.solid, low_rank, sealed=True)  # voxelize sealed pockets
+    low_rank = LowRank(*rows, core)
+    partial = partial_faces(voxels)
+    partial = partial if len(partial.weight) else None
+    return pressure_system(voxels.solid, low_rank, sealed=True, partial=partial)
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,9 +194,9 @@ class CoupledProblem:
     density: float
     area: float
 
-    @property
-    def rows(self) -> np.ndarray:
-        """Rows of ``B^T``, (m, nv): ``coupled_rows``."""
+    @cached_property
+    def rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """The nonzero rows of ``B^T`` and their cells: ``coupled_rows``."""
         return coupled_rows(self.voxels, self.jacobians, self.area)
 
     @property
@@ -185,36 +225,62 @@ def solve_coupled(
     grid, voxels, area = problem.grid, problem.voxels, problem.area
     grid.check_velocity(problem.velocity_star, "velocity_star")
     u = tuple(np.array(c, dtype=float) for c in problem.velocity_star)
-    set_solid_faces_(grid, u, voxels.solid)  # D sums over fluid faces only
-    rows, scale = problem.rows, problem.scale
-    system = coupled_system(voxels, rows, problem.mass_t, grid, problem.density, area)
+    set_solid_faces_(grid, u, voxels.solid)  # no water: no fluid velocity
+    (cells, rows), scale = problem.rows, problem.scale
+    system = coupled_system(voxels, (cells, rows), problem.mass_t, grid, problem.density, area)
     surface_outflow = rows @ problem.qvel_star
-    body_outflow = _per_cell(grid, voxels, surface_outflow)  # B^T qd*
-    rhs = scale * (body_outflow - area * fluid_outflow(grid, u, voxels.solid))
+    body_outflow = _per_cell(grid, cells, surface_outflow)  # B^T qd*
+    rhs = scale * (body_outflow - area * fluid_outflow(grid, water_flux(u, voxels), voxels.solid))
     speed = max(max(np.abs(c).max() for c in u), np.abs(surface_outflow).max(initial=0.0) / area)
     result = solve(system, rhs, atol=tol * max(speed, 1e-30) * scale * area, x0=pressure)
     subtract_gradient_(
         grid, u, result.x, voxels.solid, problem.dt / (problem.density * grid.cell_size)
     )
-    force = -rows.T @ result.x[tuple(voxels.face_cell.T)]  # -B p
+    force = -rows.T @ result.x[tuple(cells.T)]  # -B p
     qvel = problem.qvel_star + problem.dt * np.linalg.solve(problem.mass_t, force)
     return CoupledSolve(u, qvel, result.x, force, result.iterations)
+
+
+def water_flux(velocity: Velocity, voxels: Voxels) -> Velocity:
+    """A copy of the face velocities with each coupled face's times its water fraction:
+    the fluid's share of the flow, whose ``fluid_outflow`` is ``D_w u``."""
+    flux = tuple(np.array(c, dtype=float) for c in velocity)
+    for axis, component in enumerate(flux):
+        on = voxels.face_axis == axis
+        component[tuple(voxels.face_index[on].T)] *= voxels.face_weight[on]
+    return flux
+
+
+def volume_change(problem: CoupledProblem, velocity: Velocity, qvel: np.ndarray) -> np.ndarray:
+    """Every cell's net outflow of volume through the water and the body parts of its
+    faces, ``grid.shape`` [m^3/s] (0 in solid cells): zero after a coupled solve."""
+    grid, voxels = problem.grid, problem.voxels
+    u = tuple(np.array(c, dtype=float) for c in velocity)
+    set_solid_faces_(grid, u, voxels.solid)
+    cells, rows = problem.rows
+    fluid = problem.area * fluid_outflow(grid, water_flux(u, voxels), voxels.solid)
+    return fluid - _per_cell(grid, cells, rows @ qvel)
 
 
 def rigid_faces_(
     grid: Grid, velocity: Velocity, voxels: Voxels, point_velocity: PointVelocity
 ) -> None:
-    """Give every face that touches a solid cell the rigid velocity of its link, in place.
+    """Give every mostly solid face the rigid velocity of its link, in place.
 
-    Coupled faces so get the body's normal velocity (step 3 of the module
-    docstring); faces inside the body carry it too, so that advection near
-    the body interpolates sensible values. A face between solid cells of two
+    Mostly solid: a coupled face whose water fraction is below 1/2, or any
+    other face that touches a cell the body owns. Coupled faces so get the
+    body's velocity where the body is most of them (on the staircase, all of
+    them: step 3 of the module docstring), and keep the water's where it is;
+    faces inside the body carry the body's velocity too, so that advection
+    near the body interpolates sensible values. A face between cells of two
     links takes the mean of both links' velocities there (no side is
     preferred, so a mirror-symmetric body stays symmetric).
     """
     box = _solid_box(voxels.owner)
     if box is None:
         return
+    watery = voxels.face_weight >= 0.5
+    kept = [_coupled_values(velocity, voxels, watery, axis) for axis in range(grid.dim)]
     for axis, component in enumerate(velocity):
         index, lo, hi = _faces_touching_solid(voxels.owner, box, axis)
         offset = np.full(grid.dim, 0.5)
@@ -225,6 +291,32 @@ def rigid_faces_(
         both = np.concatenate([lo, hi])
         speeds = point_velocity(np.concatenate([points, points]), both)[:, axis]
         component[tuple(index.T)] = 0.5 * (speeds[: len(lo)] + speeds[len(lo) :])
+        at, values = kept[axis]
+        component[at] = values
+    loose = ~watery & ~_touches_owned(voxels)
+    if loose.any():
+        speeds = point_velocity(voxels.face_center[loose], voxels.face_link[loose])
+        axes = voxels.face_axis[loose]
+        for axis, component in enumerate(velocity):
+            on = axes == axis
+            component[tuple(voxels.face_index[loose][on].T)] = speeds[on, axis]
+
+
+def _coupled_values(velocity: Velocity, voxels: Voxels, chosen: np.ndarray, axis: int):
+    """The chosen coupled faces normal to ``axis``: their index and current values."""
+    at = tuple(voxels.face_index[chosen & (voxels.face_axis == axis)].T)
+    return at, velocity[axis][at].copy()
+
+
+def _touches_owned(voxels: Voxels) -> np.ndarray:
+    """Whether each coupled face has a cell the body owns on either side."""
+    shape = np.array(voxels.owner.shape)
+    below = voxels.face_index - np.eye(len(shape), dtype=np.int64)[voxels.face_axis]
+    touches = np.zeros(voxels.face_count, bool)
+    for cell in (below, voxels.face_index):
+        inside = np.all((cell >= 0) & (cell < shape), axis=1)
+        touches[inside] |= voxels.owner[tuple(cell[inside].T)] >= 0
+    return touches
 
 
 def _solid_box(owner: np.ndarray) -> tuple[slice, ...] | None:
@@ -254,10 +346,10 @@ def _faces_touching_solid(owner: np.ndarray, box: tuple[slice, ...], axis: int):
     return index + first, lo[tuple(index.T)], hi[tuple(index.T)]
 
 
-def _per_cell(grid: Grid, voxels: Voxels, per_face: np.ndarray) -> np.ndarray:
-    """Sum a value per coupled face into its fluid cell, ``grid.shape``."""
+def _per_cell(grid: Grid, cells: np.ndarray, per_row: np.ndarray) -> np.ndarray:
+    """Sum a value per row of ``B^T`` into its cell, ``grid.shape``."""
     out = grid.zeros_cells()
-    np.add.at(out, tuple(voxels.face_cell.T), per_face)
+    np.add.at(out, tuple(cells.T), per_row)
     return out
 
 
@@ -269,45 +361,73 @@ def dense_coupled_system(problem: CoupledProblem) -> tuple[np.ndarray, np.ndarra
 
     Every cell's net outflow after a step is an affine function of the
     pressure. Column c of the matrix is the outflow caused by a unit pressure
-    in cell c alone, computed face by face: the gradient accelerates the
-    fluid faces; the force ``-p A n_f`` on every coupled face accelerates the
-    body through ``Mt``, and the body's surface velocity gives the outflow
-    through the coupled faces. ``rho h / (dt A)`` times that is the matrix,
-    and minus as much times the outflow at ``p = 0`` the right-hand side.
+    in cell c alone, computed face by face: the gradient accelerates the water
+    on every face with some (``w > 0``); the pressure difference across each
+    coupled face pushes its solid part, ``(1 - w) A (p_lo - p_hi)`` along the
+    axis (``p = 0`` in solid and ghost cells), which accelerates the body
+    through ``Mt``; each face then passes ``w A u + (1 - w) A V`` (``V``: the
+    body's velocity along the axis at the face). ``rho h / (dt A)`` times that
+    is the matrix, and minus as much times the outflow at ``p = 0`` the
+    right-hand side.
 
     Returns:
-        ``(matrix, rhs, fluid_cells)``: (n, n), (n,) and (n, dim) cell indices.
+        ``(matrix, rhs, water_cells)``: (n, n), (n,) and (n, dim) cell indices.
     """
     grid, voxels, jacobians = problem.grid, problem.voxels, problem.jacobians
     dt, density, area, mass_t = problem.dt, problem.density, problem.area, problem.mass_t
-    fluid_cells = np.argwhere(~voxels.solid)
+    water_cells = np.argwhere(~voxels.solid)
+    weight = water_fractions(grid, voxels)
     scale = problem.scale
 
     def outflow(p, u_star, qd_star):
-        u = tuple(np.array(c, dtype=float) for c in u_star)
-        set_solid_faces_(grid, u, voxels.solid)
-        subtract_gradient_(grid, u, p, voxels.solid, dt / (density * grid.cell_size))
-        force = np.zeros(len(qd_star))
-        for f in range(len(voxels.face_axis)):
-            normal = np.zeros(3)
-            normal[voxels.face_axis[f]] = voxels.face_sign[f]
-            p_cell = p[tuple(voxels.face_cell[f])]
-            force += jacobians[f].T @ (-p_cell * area * normal)
+        ghosted = np.pad(p, 1)
+        u, force = [], np.zeros(len(qd_star))
+        for axis in range(grid.dim):
+            inner = [slice(1, -1)] * grid.dim
+            inner[axis] = slice(None)
+            gradient = np.diff(ghosted, axis=axis)[tuple(inner)]
+            u.append(u_star[axis] - dt / (density * grid.cell_size) * gradient)
+        for f in range(voxels.face_count):
+            axis, index = voxels.face_axis[f], tuple(voxels.face_index[f])
+            step = np.eye(grid.dim, dtype=int)[axis]
+            lo = ghosted[tuple(np.add(index, 1) - step)]
+            hi = ghosted[tuple(np.add(index, 1))]
+            push = np.zeros(3)
+            push[axis] = (1 - voxels.face_weight[f]) * area * (lo - hi)
+            force += jacobians[f].T @ push
         qd = qd_star + dt * np.linalg.solve(mass_t, force)
-        total = area * net_outflow(grid, u)  # fluid faces (solid faces hold zero)
-        for f in range(len(voxels.face_axis)):
-            surface = jacobians[f] @ qd
-            total[tuple(voxels.face_cell[f])] -= (
-                area * voxels.face_sign[f] * surface[voxels.face_axis[f]]
-            )
+        flux = [area * weight[axis] * u[axis] for axis in range(grid.dim)]
+        for f in range(voxels.face_count):
+            axis, index = voxels.face_axis[f], tuple(voxels.face_index[f])
+            solid = (1 - voxels.face_weight[f]) * area * (jacobians[f] @ qd)[axis]
+            flux[axis][index] += solid
+        total = net_outflow(grid, tuple(flux))
         return total[~voxels.solid]
 
     base = outflow(grid.zeros_cells(), problem.velocity_star, problem.qvel_star)
     still = grid.zeros_velocity()
     at_rest = np.zeros_like(problem.qvel_star)
-    matrix = np.zeros((len(fluid_cells), len(fluid_cells)))
-    for column, cell in enumerate(fluid_cells):
+    matrix = np.zeros((len(water_cells), len(water_cells)))
+    for column, cell in enumerate(water_cells):
         unit = grid.zeros_cells()
         unit[tuple(cell)] = 1.0
         matrix[:, column] = scale * outflow(unit, still, at_rest)
-    return matrix, -scale * base, fluid_cells
+    return matrix, -scale * base, water_cells
+
+
+def water_fractions(grid: Grid, voxels: Voxels) -> Velocity:
+    """Every face's water fraction ``w``, as face arrays: 1 between two cells with
+    water (or water and the open border), 0 next to a solid cell, the coupled
+    faces' own fractions where listed."""
+    water = np.pad(~voxels.solid, 1, constant_values=True)  # ghosts: open water
+    fractions = []
+    for axis in range(grid.dim):
+        n = water.shape[axis]
+        both = np.take(water, range(n - 1), axis=axis) & np.take(water, range(1, n), axis=axis)
+        inner = [slice(1, -1)] * grid.dim
+        inner[axis] = slice(None)
+        fractions.append(both[tuple(inner)].astype(float))
+    for axis, fraction in enumerate(fractions):
+        on = voxels.face_axis == axis
+        fraction[tuple(voxels.face_index[on].T)] = voxels.face_weight[on]
+    return tuple(fractions)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from aquagait.fluid.cells import interior, pad
-from aquagait.fluid.multigrid import build_hierarchy, laplacian, vcycle
+from aquagait.fluid.multigrid import band_rows, build_hierarchy, laplacian, vcycle
 from aquagait.grid import Grid
 
 
@@ -15,7 +15,8 @@ def hierarchy_for(shape):
 
 def apply_vcycle(h, r):
     z = np.zeros_like(r)
-    vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, np.zeros((5, h.offsets[-1])), h.three_d)
+    vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, np.zeros((5, h.offsets[-1])), h.three_d,
+           band_rows(h, None))
     return z
 
 

@@ -26,7 +26,7 @@ WARMUP_FRAMES = 15
 PROFILED = ("eel2d", "fish", "accordion2d")
 
 PHASES = {
-    "voxelize": ("_voxels",),
+    "voxelize": ("EulerFluid._voxels",),
     "advect": ("advect_velocity",),
     "predict body": ("servo_forces", "predict_body"),
     "coupled solve": ("EulerFluid._coupled_solve",),

@@ -20,8 +20,12 @@ Rules:
 - The grid border is open water: faces on it are never coupled faces.
 - 2D: the planar body is cut at z = 0; its links turn about z only.
 
+This is the *staircase* boundary: a face is open water or wall, nothing
+between. ``aquagait.body.subcell`` gives the same ``Voxels`` with fractional
+faces; the fluid model takes either function (``EulerFluid.boundary``).
+
 The pose checks and the two sampling kernels (``cell_range``,
-``link_distance``) serve ``aquagait.body.overlap`` too.
+``link_distance``) serve ``aquagait.body.overlap`` and ``subcell`` too.
 """
 
 from __future__ import annotations
@@ -39,21 +43,26 @@ __all__ = ["BodyShape", "Voxels", "body_shape", "voxelize"]
 
 @dataclass(frozen=True, eq=False)
 class Voxels:
-    """The body on the grid at one pose: solid cells and coupled faces.
+    """The body on the grid at one pose: cells without water, and the coupled faces.
 
-    ``m`` is the number of coupled faces, ``dim`` the grid's dimension.
+    A *coupled face* is a face, next to at least one cell with water, that is
+    partly or wholly inside the body: its *fluid fraction* ``w`` is below 1.
+    The staircase (``voxelize``) has ``w = 0`` on every coupled face, the faces
+    between a solid and a fluid cell; the sub-cell boundary
+    (``aquagait.body.subcell``) has fractions between. ``m`` is the number of
+    coupled faces, ``dim`` the grid's dimension.
 
     Attributes:
-        solid: ``grid.shape`` bool, the cell centre is inside a link, or the
-            cell is a sealed fluid pocket.
-        owner: ``grid.shape`` int32, owning link of a solid cell, -1 for fluid.
+        solid: ``grid.shape`` bool, a cell with no water (no pressure
+            unknown): inside the body, or a sealed fluid pocket.
+        owner: ``grid.shape`` int32, the link a cell mostly belongs to (its
+            centre is inside it), -1 for water. Every solid cell has one.
         face_axis: (m,) int64, the axis ``a`` a coupled face is normal to.
         face_index: (m, dim) int64, its index into ``velocity[a]`` (shape
-            ``grid.face_shape(a)``).
-        face_sign: (m,) float64, +1 or -1: the outward normal is
-            ``n_f = face_sign * e_a``, from the solid cell into the fluid cell.
-        face_cell: (m, dim) int64, index of the FLUID cell next to the face.
-        face_link: (m,) int64, owner link of the SOLID cell next to the face.
+            ``grid.face_shape(a)``), between cells ``index - e_a`` and ``index``.
+        face_weight: (m,) float64, its fluid fraction ``w`` in [0, 1).
+        face_link: (m,) int64, the link whose surface the face cuts (the
+            deepest one where several do).
         face_center: (m, 3) world position of the face centre [m] (z = 0 in 2D).
     """
 
@@ -61,8 +70,7 @@ class Voxels:
     owner: np.ndarray
     face_axis: np.ndarray
     face_index: np.ndarray
-    face_sign: np.ndarray
-    face_cell: np.ndarray
+    face_weight: np.ndarray
     face_link: np.ndarray
     face_center: np.ndarray
 
@@ -70,6 +78,30 @@ class Voxels:
     def face_count(self) -> int:
         """``m``, the number of coupled faces."""
         return int(self.face_axis.shape[0])
+
+    def sides(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The cells with water on either side of every coupled face.
+
+        Returns:
+            ``(face, cell, sign)``, one entry per coupled face and neighbour
+            cell that is in the grid and not solid: the face's row (e,), the
+            cell (e, dim), and the sign of the normal ``n = sign * e_a`` that
+            points from the face's solid part into that cell (+1: the cell
+            above the face, ``index``; -1: the cell below, ``index - e_a``).
+        """
+        shape = np.array(self.solid.shape)
+        step = np.eye(len(shape), dtype=np.int64)[self.face_axis]
+        faces, cells, signs = [], [], []
+        for sign, cell in ((-1.0, self.face_index - step), (1.0, self.face_index)):
+            inside = np.all((cell >= 0) & (cell < shape), axis=1)
+            keep = np.flatnonzero(inside)
+            keep = keep[~self.solid[tuple(cell[keep].T)]]
+            faces.append(keep)
+            cells.append(cell[keep])
+            signs.append(np.full(len(keep), sign))
+        order = np.argsort(np.concatenate(faces), kind="stable")
+        return (np.concatenate(faces)[order], np.concatenate(cells)[order],
+                np.concatenate(signs)[order])  # fmt: skip
 
 
 def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
@@ -87,23 +119,15 @@ def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
         ValueError: malformed poses, a 2D pose that leaves the x-y plane, a grid
             of the wrong dimension or finer than the shape resolves.
     """
-    if grid.dim != shape.dim:
-        raise ValueError(
-            f"the grid is {grid.dim}D but the body is {shape.dim}D: give a grid of {shape.dim} axes"
-        )
-    if grid.cell_size < 2 * shape.spacing:
-        raise ValueError(
-            f"the body shape samples every {shape.spacing:.3g} m, too coarse for cells of "
-            f"{grid.cell_size:.3g} m: rebuild it with body_shape(model, grid.cell_size)"
-        )
+    check_grid(shape, grid)
     pos, rot = checked_pose(shape, link_pos, link_rot)
-    owner = np.full(_as_3d(grid.shape), -1, dtype=np.int32)
+    owner = np.full(as_3d(grid.shape), -1, dtype=np.int32)
     box = np.empty(6, dtype=np.int64)
-    origin, h = _origin_3d(grid.origin, grid.cell_size), grid.cell_size
+    origin, h = origin_3d(grid.origin, grid.cell_size), grid.cell_size
     best = np.full(owner.shape, np.inf, dtype=np.float32)
     _paint_owners_(*baked_arrays(shape), rot, pos, origin, h, owner, best, box)
     _seal_pockets_(owner, box)
-    axis, index, sign, cell, link = _coupled_faces(owner, box)
+    axis, index, link = _coupled_faces(owner, box)
     dim = grid.dim
     centre = origin + (index + 0.5) * h
     centre[np.arange(axis.size), axis] -= 0.5 * h
@@ -115,14 +139,26 @@ def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
         owner=owner,
         face_axis=axis,
         face_index=index[:, :dim],
-        face_sign=sign,
-        face_cell=cell[:, :dim],
+        face_weight=np.zeros(axis.size),
         face_link=link,
         face_center=centre,
     )
 
 
 # --- checks and small geometry --------------------------------------------------
+
+
+def check_grid(shape: BodyShape, grid: Grid) -> None:
+    """Refuse a grid of the wrong dimension, or finer than the shape's samples resolve."""
+    if grid.dim != shape.dim:
+        raise ValueError(
+            f"the grid is {grid.dim}D but the body is {shape.dim}D: give a grid of {shape.dim} axes"
+        )
+    if grid.cell_size < 2 * shape.spacing:
+        raise ValueError(
+            f"the body shape samples every {shape.spacing:.3g} m, too coarse for cells of "
+            f"{grid.cell_size:.3g} m: rebuild it with body_shape(model, grid.cell_size)"
+        )
 
 
 def checked_pose(shape: BodyShape, link_pos, link_rot) -> tuple[np.ndarray, np.ndarray]:
@@ -153,11 +189,11 @@ def baked_arrays(shape: BodyShape) -> tuple:
     return shape.sdf, shape.offset, shape.dims, shape.lower, shape.spacing
 
 
-def _as_3d(shape: tuple[int, ...]) -> tuple[int, int, int]:
+def as_3d(shape: tuple[int, ...]) -> tuple[int, int, int]:
     return tuple(shape) + (1,) * (3 - len(shape))
 
 
-def _origin_3d(origin, h: float) -> np.ndarray:
+def origin_3d(origin, h: float) -> np.ndarray:
     """Grid origin in 3D; a 2D grid gets one layer of cells centred on z = 0."""
     return np.array(tuple(origin) + (-h / 2,) * (3 - len(origin)))
 
@@ -166,8 +202,8 @@ def _origin_3d(origin, h: float) -> np.ndarray:
 
 
 @numba.njit(cache=True, nogil=True)
-def cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
-    """Cells (out[a] = first, last) whose centres lie in the world box of a link's grid."""
+def link_world_box(dims, lower, spacing, rot, pos):
+    """World box (lo, hi) of a link's signed-distance grid at its pose [m]."""
     lo = np.full(3, np.inf)
     hi = np.full(3, -np.inf)
     for corner in range(8):
@@ -178,6 +214,13 @@ def cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
             w = pos[a] + rot[a, 0] * b[0] + rot[a, 1] * b[1] + rot[a, 2] * b[2]
             lo[a] = min(lo[a], w)
             hi[a] = max(hi[a], w)
+    return lo, hi
+
+
+@numba.njit(cache=True, nogil=True)
+def cell_range(dims, lower, spacing, rot, pos, origin, h, shape, out):
+    """Cells (out[a] = first, last) whose centres lie in the world box of a link's grid."""
+    lo, hi = link_world_box(dims, lower, spacing, rot, pos)
     for a in range(3):
         if shape[a] == 1:  # the single layer of a 2D grid
             out[a, 0], out[a, 1] = 0, 0
@@ -286,12 +329,12 @@ def _seal_pockets_(owner, box):
                     owner[i, j, l] = -2
                     pockets += 1
     if pockets:
-        _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1)
+        own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1)
     return pockets
 
 
 @numba.njit(cache=True)
-def _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1):
+def own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1):
     """Give cells marked -2 the owner of the nearest solid cell, breadth first."""
     nx, ny, nz = owner.shape
     steps = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
@@ -326,20 +369,18 @@ def _own_pockets_(owner, pockets, i0, i1, j0, j1, l0, l1):
 
 @numba.njit(cache=True, nogil=True)
 def _coupled_faces(owner, box):
-    """Faces between a fluid and a solid cell: axis, face index, sign, fluid cell, link."""
+    """Faces between a fluid and a solid cell: axis, face index, the solid cell's link."""
     none, rows = np.empty(0, dtype=np.int64), np.empty((0, 3), dtype=np.int64)
-    count = _face_sweep_(owner, box, none, rows, np.empty(0), rows, none)
+    count = _face_sweep_(owner, box, none, rows, none)
     axis = np.empty(count, dtype=np.int64)
     index = np.empty((count, 3), dtype=np.int64)
-    sign = np.empty(count)
-    cell = np.empty((count, 3), dtype=np.int64)
     link = np.empty(count, dtype=np.int64)
-    _face_sweep_(owner, box, axis, index, sign, cell, link)
-    return axis, index, sign, cell, link
+    _face_sweep_(owner, box, axis, index, link)
+    return axis, index, link
 
 
 @numba.njit(cache=True, nogil=True)
-def _face_sweep_(owner, box, axis, index, sign, cell, link):
+def _face_sweep_(owner, box, axis, index, link):
     """Count the coupled faces; fill the arrays too when they are long enough."""
     if box[3] < 0:
         return 0
@@ -360,12 +401,8 @@ def _face_sweep_(owner, box, axis, index, sign, cell, link):
                     if (low >= 0) == (high >= 0):
                         continue
                     if fill:  # the face between two cells has the upper cell's index
-                        outward = low >= 0  # solid below, fluid above: n = +e_a
                         axis[count] = a
                         index[count, 0], index[count, 1], index[count, 2] = i + di, j + dj, l + dl
-                        sign[count] = 1.0 if outward else -1.0
-                        fluid = (i + di, j + dj, l + dl) if outward else (i, j, l)
-                        cell[count, 0], cell[count, 1], cell[count, 2] = fluid
-                        link[count] = low if outward else high
+                        link[count] = low if low >= 0 else high
                     count += 1
     return count

@@ -191,13 +191,54 @@ def _smooth(x, b, inverse, color, three_d):
 
 
 @numba.njit(cache=True, nogil=True)
-def _residual(x, b, diag, r, three_d):
+def _residual(x, b, diag, r, three_d, band):
     laplacian(x, diag, r, three_d)
     nx, ny, nz = x.shape
     for i in range(nx):
         for j in range(ny):
             for k in range(nz):
                 r[i, j, k] = b[i, j, k] - r[i, j, k] if diag[i, j, k] != 0.0 else 0.0
+    cells, near, weight, inverse, parity = band
+    fx, fb, fr = x.ravel(), b.ravel(), r.ravel()
+    for n in range(cells.size):
+        c = cells[n]
+        fr[c] = fb[c] - fx[c] / inverse[n] + _weighted_sum(fx, near, weight, n)
+
+
+# Partial faces (``pcg.PartialFaces``) change the Laplacian at a band of cells
+# next to the body. The finest level's smoother and residual use the weighted
+# rows there (``band``: the cells, their neighbours' flat indices and face
+# weights, ``1 / sum of weights``, and each cell's red-black colour); the
+# kernels above run first and these overwrite the band cells. Coarser levels
+# stay unweighted: the body is a few cells there anyway.
+
+
+@numba.njit(cache=True, nogil=True)
+def _weighted_sum(flat, near, weight, n):
+    total = 0.0
+    for m in range(near.shape[1]):
+        total += weight[n, m] * flat[near[n, m]]
+    return total
+
+
+@numba.njit(cache=True, nogil=True)
+def _band_gauss_seidel_(x, b, band, color):
+    cells, near, weight, inverse, parity = band
+    fx, fb = x.ravel(), b.ravel()
+    for n in range(cells.size):
+        if parity[n] == color:
+            fx[cells[n]] = (fb[cells[n]] + _weighted_sum(fx, near, weight, n)) * inverse[n]
+
+
+@numba.njit(cache=True, nogil=True)
+def _band_jacobi_(x, b, out, band):
+    cells, near, weight, inverse, parity = band
+    fx, fb, fo = x.ravel(), b.ravel(), out.ravel()
+    for n in range(cells.size):
+        c = cells[n]
+        fo[c] = (1 - JACOBI_WEIGHT) * fx[c] + JACOBI_WEIGHT * inverse[n] * (
+            fb[c] + _weighted_sum(fx, near, weight, n)
+        )
 
 
 # Transfers are separable: one pass per axis, each a 4-tap (restriction) or
@@ -310,7 +351,7 @@ def _jacobi(x, b, diag, inverse, out, three_d):
 
 
 @numba.njit(cache=True, nogil=True)
-def _smooth_(x, b, diag, inverse, tmp, sweeps, adjoint, three_d):
+def _smooth_(x, b, diag, inverse, tmp, sweeps, adjoint, three_d, band):
     """``sweeps`` smoothing steps on ``x`` in place; ``adjoint`` reverses the order.
 
     3D: damped Jacobi, two sweeps a step (``x -> tmp -> x``), self-adjoint.
@@ -320,25 +361,38 @@ def _smooth_(x, b, diag, inverse, tmp, sweeps, adjoint, three_d):
     for _ in range(sweeps):
         if three_d:
             _jacobi(x, b, diag, inverse, tmp, three_d)
+            _band_jacobi_(x, b, tmp, band)
             _jacobi(tmp, b, diag, inverse, x, three_d)
+            _band_jacobi_(tmp, b, x, band)
         else:
-            _smooth(x, b, inverse, 1 if adjoint else 0, three_d)
-            _smooth(x, b, inverse, 0 if adjoint else 1, three_d)
+            _red_black_(x, b, inverse, adjoint, three_d, band)
 
 
 @numba.njit(cache=True, nogil=True)
-def _presmooth_from_zero(x, b, diag, inverse, tmp, sweeps, three_d):
+def _red_black_(x, b, inverse, adjoint, three_d, band):
+    """Red then black Gauss-Seidel half sweeps (black then red for the adjoint)."""
+    for color in (1, 0) if adjoint else (0, 1):
+        _smooth(x, b, inverse, color, three_d)
+        _band_gauss_seidel_(x, b, band, color)
+
+
+@numba.njit(cache=True, nogil=True)
+def _presmooth_from_zero(x, b, diag, inverse, tmp, sweeps, three_d, band):
     """``x = 0`` then ``_smooth_``; in 3D the first Jacobi sweep from zero is just
     ``omega b / diag``, an elementwise pass instead of a stencil."""
     if not three_d:
         x[:] = 0.0
-        _smooth_(x, b, diag, inverse, tmp, sweeps, False, three_d)
+        _smooth_(x, b, diag, inverse, tmp, sweeps, False, three_d, band)
         return
     ft, fb, fi = tmp.ravel(), b.ravel(), inverse.ravel()
     for n in range(ft.size):
         ft[n] = JACOBI_WEIGHT * fi[n] * fb[n]
+    cells, inverse_band = band[0], band[3]
+    for n in range(cells.size):
+        ft[cells[n]] = JACOBI_WEIGHT * inverse_band[n] * fb[cells[n]]
     _jacobi(tmp, b, diag, inverse, x, three_d)
-    _smooth_(x, b, diag, inverse, tmp, sweeps - 1, False, three_d)
+    _band_jacobi_(tmp, b, x, band)
+    _smooth_(x, b, diag, inverse, tmp, sweeps - 1, False, three_d, band)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -348,7 +402,7 @@ def _level(buffer, shapes, offsets, level):
 
 
 @numba.njit(cache=True, nogil=True)
-def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d):
+def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d, band):
     """``z = V r``: one symmetric multigrid V-cycle, the preconditioner of ``pcg``.
 
     Args:
@@ -358,7 +412,10 @@ def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d):
         work: ``(5, offsets[-1])`` scratch: per-level solution, right side,
             residual, and two rows for the separable transfers.
         three_d: whether z is a real axis.
+        band: the finest level's weighted rows (``band_rows``; empty without
+            partial faces).
     """
+    none = _no_band()
     coarsest = shapes.shape[0] - 1
     steps = SMOOTHING_STEPS_3D if three_d else SMOOTHING_STEPS_2D
     xs, bs, rs, t1, t2 = work[0], work[1], work[2], work[3], work[4]
@@ -367,23 +424,30 @@ def vcycle(r, z, diag, inverse, shapes, offsets, work, three_d):
         x, b = _level(xs, shapes, offsets, level), _level(bs, shapes, offsets, level)
         d, inv = _level(diag, shapes, offsets, level), _level(inverse, shapes, offsets, level)
         res = _level(rs, shapes, offsets, level)
+        rows = band if level == 0 else none
         if level == coarsest:  # symmetric Gauss-Seidel stands in for an exact solve
             x[:] = 0.0
             for adjoint in (False, True):
                 for _ in range(COARSEST_SWEEPS):
-                    _smooth(x, b, inv, 1 if adjoint else 0, three_d)
-                    _smooth(x, b, inv, 0 if adjoint else 1, three_d)
+                    _red_black_(x, b, inv, adjoint, three_d, rows)
             break
-        _presmooth_from_zero(x, b, d, inv, res, steps, three_d)
-        _residual(x, b, d, res, three_d)
+        _presmooth_from_zero(x, b, d, inv, res, steps, three_d, rows)
+        _residual(x, b, d, res, three_d, rows)
         d_c, b_c = _level(diag, shapes, offsets, level + 1), _level(bs, shapes, offsets, level + 1)
         _restrict(res, d_c, b_c, t1, t2, three_d)
     for level in range(coarsest - 1, -1, -1):
         x, b = _level(xs, shapes, offsets, level), _level(bs, shapes, offsets, level)
         d, inv = _level(diag, shapes, offsets, level), _level(inverse, shapes, offsets, level)
         _prolong_add(_level(xs, shapes, offsets, level + 1), x, inv, t1, t2, three_d)
-        _smooth_(x, b, d, inv, _level(rs, shapes, offsets, level), steps, True, three_d)
+        rows = band if level == 0 else none
+        _smooth_(x, b, d, inv, _level(rs, shapes, offsets, level), steps, True, three_d, rows)
     z[:] = _level(xs, shapes, offsets, 0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _no_band():
+    return (np.zeros(0, np.int64), np.zeros((0, 6), np.int64), np.zeros((0, 6), np.float32),
+            np.zeros(0, np.float32), np.zeros(0, np.int64))  # fmt: skip
 
 
 def preconditioner(system):
@@ -395,7 +459,53 @@ def preconditioner(system):
     """
     h = system.hierarchy
     work = _work(int(h.offsets[-1]))
-    return lambda r, z: vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, work, h.three_d)
+    band = band_rows(h, system.partial)
+    return lambda r, z: vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, work, h.three_d, band)
+
+
+def band_rows(hierarchy: Hierarchy, partial) -> tuple:
+    """The finest level's rows at the cells of partial faces, weighted (``vcycle``).
+
+    Args:
+        hierarchy: the system's levels.
+        partial: ``pcg.PartialFaces`` or None.
+    Returns:
+        ``(cells, near, weight, inverse, parity)``: flat padded cells (n,), their
+        six neighbours (n, 6; a 2D grid's z neighbours have weight 0), the
+        faces' weights (1 to water or a ghost, 0 to a solid cell, the water
+        fraction on a partial face), ``1 / sum of weights``, and ``(i + j + k) % 2``.
+    """
+    if partial is None or len(partial.weight) == 0:
+        return _no_band()
+    shape = tuple(hierarchy.shapes[0])
+    diag = hierarchy.level_diag(0).ravel()
+    below, above = (_flat(np.asarray(c), shape) for c in (partial.below, partial.above))
+    cells = np.unique(np.concatenate([below, above]))
+    cells = cells[diag[cells] != 0]
+    strides = np.array([shape[1] * shape[2], shape[2], 1])
+    steps = np.concatenate([strides, -strides])
+    near = cells[:, None] + steps[None, :]
+    coords = np.stack(np.unravel_index(near, shape), axis=-1)
+    real = np.array([True, True, shape[2] > 1])
+    ghost = np.any(real & ((coords == 0) | (coords == np.array(shape) - 1)), axis=-1)
+    weight = ((diag[near] != 0) | ghost).astype(np.float32)
+    weight[:, ~np.concatenate([real, real])] = 0.0
+    for lo, hi, w in ((below, above, partial.weight), (above, below, partial.weight)):
+        row = np.searchsorted(cells, lo)
+        found = (row < len(cells)) & (cells[np.minimum(row, len(cells) - 1)] == lo)
+        column = np.argmax(steps[None, :] == (hi - lo)[:, None], axis=1)
+        weight[row[found], column[found]] = w[found]
+    parity = np.sum(np.stack(np.unravel_index(cells, shape), axis=-1), axis=1) % 2
+    inverse = (1.0 / weight.sum(axis=1)).astype(np.float32)
+    return cells.astype(np.int64), near.astype(np.int64), weight, inverse, parity.astype(np.int64)
+
+
+def _flat(cells: np.ndarray, shape: tuple[int, int, int]) -> np.ndarray:
+    """Flat padded indices of grid cell indices (-1 and n: ghosts)."""
+    padded = np.asarray(cells, dtype=np.int64) + 1
+    if padded.shape[1] == 2:
+        padded = np.column_stack([padded, np.zeros(len(padded), np.int64)])
+    return np.ravel_multi_index(tuple(padded.T), shape)
 
 
 @per_thread_cache(maxsize=4)

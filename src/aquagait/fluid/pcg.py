@@ -19,7 +19,7 @@ projection this bounds every cell's divergence, not only their average.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numba
 import numpy as np
@@ -63,6 +63,34 @@ class LowRank:
 
 
 @dataclass(frozen=True)
+class PartialFaces:
+    """Faces between two cells with water that are only partly open.
+
+    The Laplacian weights a face by its water fraction ``w`` (sub-cell solid
+    boundaries, ``aquagait.body.subcell``): ``(L p)_c = sum_f w_f (p_c - p_n)``.
+    Faces not listed have ``w = 1`` between two fluid cells, ``w = 0`` next to a
+    solid one. A face on the grid's border has the ghost ``p = 0`` on one side.
+
+    Attributes:
+        below: ``(n, dim)`` the cell below each face (``-1`` along the axis: the ghost).
+        above: ``(n, dim)`` the cell above (the grid's size along the axis: the ghost).
+        weight: ``(n,)`` the water fractions, in [0, 1).
+    """
+
+    below: np.ndarray
+    above: np.ndarray
+    weight: np.ndarray
+
+    def __post_init__(self):
+        n = len(self.weight)
+        if np.shape(self.below) != np.shape(self.above) or len(self.below) != n:
+            raise ValueError(
+                f"PartialFaces needs below and above (n, dim) and weight (n,); got "
+                f"{np.shape(self.below)}, {np.shape(self.above)}, {np.shape(self.weight)}"
+            )
+
+
+@dataclass(frozen=True)
 class PressureSystem:
     """The operator of one pressure solve: which cells are fluid, and extra terms.
 
@@ -72,14 +100,18 @@ class PressureSystem:
     Attributes:
         shape: the grid's cell shape.
         solid: boolean cell mask after sealing enclosed pockets.
-        hierarchy: the multigrid levels (level 0 holds the Laplacian's diagonal).
+        hierarchy: the multigrid levels (level 0 holds the diagonal of the
+            Laplacian with every face between fluid cells open).
         low_rank: an optional ``LowRank`` term.
+        partial: optional ``PartialFaces``: faces weighted below 1. The
+            preconditioner does not see them (it acts on the unweighted ``L``).
     """
 
     shape: tuple[int, ...]
     solid: np.ndarray
     hierarchy: Hierarchy
     low_rank: LowRank | None = None
+    partial: PartialFaces | None = None
 
     def with_low_rank(self, low_rank: LowRank | None) -> PressureSystem:
         """The same Laplacian plus another low-rank term (the hierarchy is reused)."""
@@ -88,11 +120,14 @@ class PressureSystem:
                 "a low-rank row sits on a solid (or sealed) cell; its rows must belong to "
                 "fluid cells, the ones next to coupled faces"
             )
-        return PressureSystem(self.shape, self.solid, self.hierarchy, low_rank)
+        return replace(self, low_rank=low_rank)
 
 
 def pressure_system(
-    solid: np.ndarray, low_rank: LowRank | None = None, sealed: bool = False
+    solid: np.ndarray,
+    low_rank: LowRank | None = None,
+    sealed: bool = False,
+    partial: PartialFaces | None = None,
 ) -> PressureSystem:
     """Build the pressure operator for a set of solid cells.
 
@@ -101,12 +136,15 @@ def pressure_system(
             cannot reach the open boundary is sealed (treated as solid).
         low_rank: optional extra SPD term (two-way coupling).
         sealed: the caller has sealed the pockets already (skips a flood fill
-            over the whole grid).
+            over the whole grid); with ``partial``, it must have (a closed face
+            can seal water that the cells alone do not).
+        partial: optional faces weighted by their water fraction.
     """
     solid = np.asarray(solid, dtype=bool)
     if not sealed:
         solid = seal_pockets(solid)
-    return PressureSystem(solid.shape, solid, build_hierarchy(solid)).with_low_rank(low_rank)
+    system = PressureSystem(solid.shape, solid, build_hierarchy(solid), partial=partial)
+    return system.with_low_rank(low_rank)
 
 
 @dataclass(frozen=True)
@@ -200,12 +238,14 @@ def _operator(system: PressureSystem):
     """``apply(x, out)``: ``out = (L + U C U^T) x`` in the padded layout."""
     diag = system.hierarchy.level_diag(0)
     three_d = system.hierarchy.three_d
-    if system.low_rank is None:
+    if system.low_rank is None and system.partial is None:
         return lambda x, out: laplacian(x, diag, out, three_d)
     cells, rows, core = _low_rank_arrays(system, diag.shape)
+    below, above, change = _partial_arrays(system, diag.shape)
 
     def apply(x, out):
         laplacian(x, diag, out, three_d)
+        _add_partial_(x, below, above, change, diag, out)
         _add_low_rank_(x, cells, rows, core, out)
 
     return apply
@@ -228,11 +268,25 @@ def _low_rank_arrays(system: PressureSystem, padded: tuple[int, int, int]):
     lr = system.low_rank
     if lr is None:
         return np.zeros(0, np.int64), np.zeros((0, 0)), np.zeros((0, 0))
-    cells = np.asarray(lr.cells, dtype=np.int64) + 1  # into the padded layout
+    flat = _padded_flat(lr.cells, padded)
+    return flat, np.ascontiguousarray(lr.rows, float), np.ascontiguousarray(lr.core, float)
+
+
+def _partial_arrays(system: PressureSystem, padded: tuple[int, int, int]):
+    """Flat padded indices of the cells below and above each partial face, and ``w - 1``."""
+    faces = system.partial
+    if faces is None:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
+    flat = [_padded_flat(cells, padded) for cells in (faces.below, faces.above)]
+    return flat[0], flat[1], np.asarray(faces.weight, dtype=float) - 1.0
+
+
+def _padded_flat(cells: np.ndarray, padded: tuple[int, int, int]) -> np.ndarray:
+    """Flat indices into the padded layout of grid cell indices (-1 and n: ghosts)."""
+    cells = np.asarray(cells, dtype=np.int64) + 1
     if cells.shape[1] == 2:
         cells = np.column_stack([cells, np.zeros(len(cells), np.int64)])
-    flat = np.ravel_multi_index(tuple(cells.T), padded)
-    return flat, np.ascontiguousarray(lr.rows, float), np.ascontiguousarray(lr.core, float)
+    return np.ravel_multi_index(tuple(cells.T), padded)
 
 
 def _as_3d(field: np.ndarray) -> np.ndarray:
@@ -262,6 +316,23 @@ def _initial_residual_(r, b, ad, diag):
         fr[n] -= fad[n]
         residual = max(residual, abs(fr[n]))
     return residual
+
+
+@numba.njit(cache=True, nogil=True)
+def _add_partial_(x, below, above, change, diag, out):
+    """``out += (w - 1) (x_c - x_n)`` at both cells of every partial face, in place.
+
+    The Laplacian counted each with weight 1; ghosts (``diag == 0``) hold 0
+    and are never written.
+    """
+    flat_x, flat_out, flat_diag = x.ravel(), out.ravel(), diag.ravel()
+    for f in range(below.size):
+        lo, hi = below[f], above[f]
+        flux = change[f] * (flat_x[lo] - flat_x[hi])
+        if flat_diag[lo] != 0.0:
+            flat_out[lo] += flux
+        if flat_diag[hi] != 0.0:
+            flat_out[hi] -= flux
 
 
 @numba.njit(cache=True, nogil=True)
@@ -342,6 +413,8 @@ def sparse_matrix(system: PressureSystem):
     A = sp.csr_matrix(
         (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
     )
+    if system.partial is not None:
+        A = (A + _partial_matrix(system.partial, index)).tocsr()
     lr = system.low_rank
     if lr is not None:
         U = sp.csr_matrix(
@@ -356,3 +429,26 @@ def sparse_matrix(system: PressureSystem):
         )
         A = (A + U @ sp.csr_matrix(lr.core) @ U.T).tocsr()
     return A, index
+
+
+def _partial_matrix(faces: PartialFaces, index: np.ndarray):
+    """The change ``(w - 1)`` per partial face makes to the unweighted Laplacian, sparse."""
+    import scipy.sparse as sp
+
+    n = int(index.max()) + 1
+    rows, cols, vals = [], [], []
+    shape = np.array(index.shape)
+
+    def row(cell):  # -1 for a ghost
+        inside = np.all((cell >= 0) & (cell < shape))
+        return int(index[tuple(cell)]) if inside else -1
+
+    for lo, hi, w in zip(faces.below, faces.above, faces.weight, strict=True):
+        a, b = row(np.asarray(lo)), row(np.asarray(hi))
+        for this, other in ((a, b), (b, a)):
+            if this < 0:
+                continue
+            rows.append(this), cols.append(this), vals.append(w - 1.0)
+            if other >= 0:
+                rows.append(this), cols.append(other), vals.append(1.0 - w)
+    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))

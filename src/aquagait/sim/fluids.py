@@ -35,7 +35,8 @@ from numbers import Real
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
 from aquagait.body.surface import Surface, body_surface
-from aquagait.body.voxelize import Voxels, voxelize
+from aquagait.body.subcell import voxelize_subcell
+from aquagait.body.voxelize import Voxels
 from aquagait.coupling import (
     COUPLED_TOLERANCE,
     CoupledProblem,
@@ -178,6 +179,9 @@ class EulerFluid:
         advect: the advection scheme (``aquagait.fluid.advection``: ``bfecc``
             or ``semi_lagrangian``).
         solve: the linear solver of the coupled system (``pcg``).
+        boundary: how the body meets the grid, ``boundary(shape, grid,
+            link_pos, link_rot) -> Voxels``: ``voxelize_subcell`` (faces
+            weighted by their water fraction) or ``voxelize`` (the staircase).
         tolerance: the coupled solve's, relative to the fastest speed
             (``aquagait.coupling.COUPLED_TOLERANCE``).
         clearance: cells of water kept between the body and every wall
@@ -194,6 +198,7 @@ class EulerFluid:
     name: ClassVar[str] = "euler"
     advect: Callable = bfecc
     solve: Callable = pcg
+    boundary: Callable = voxelize_subcell
     tolerance: float = COUPLED_TOLERANCE
     clearance: float = CLEARANCE
     cfl: float = 1.0
@@ -216,7 +221,7 @@ class EulerFluid:
                 "of the grid: start it nearer the grid's centre"
             )
         velocity = grid.zeros_velocity()
-        rigid_faces_(grid, velocity, _voxels(scene, grid, state.qpos),
+        rigid_faces_(grid, velocity, self._voxels(scene, grid, state.qpos),
                      _point_velocity(scene, state.qpos, state.qvel))  # fmt: skip
         return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
 
@@ -224,7 +229,7 @@ class EulerFluid:
         """One two-way coupled step (module docstring, DESIGN.md §2.3)."""
         grid, q = state.grid, state.qpos
         grid.check_dt(state.velocity, dt)
-        voxels = _voxels(scene, grid, q)
+        voxels = self._voxels(scene, grid, q)
         advected = advect_velocity(grid, state.velocity, dt, scheme=self.advect)
         tau, damping = servo_forces(scene, state, dt, policy)
         qvel_star = state.qvel + dt * predict_body(scene, state, dt, tau, damping)
@@ -233,6 +238,9 @@ class EulerFluid:
         moved = move_body(scene, state, dt, tau, damping, solved.qvel)
         moved = replace(moved, velocity=solved.velocity, pressure=solved.pressure)
         return follow(scene, moved, self.clearance)
+
+    def _voxels(self, scene: Scene, grid: Grid, q) -> Voxels:
+        return self.boundary(scene.shape, grid, *scene.dynamics.link_poses(q))
 
     def _coupled_solve(self, scene, state, voxels, advected, qvel_star, dt, damping):
         q = state.qpos
@@ -265,14 +273,11 @@ class EulerFluid:
         return {
             "advect": getattr(self.advect, "__name__", repr(self.advect)),
             "solve": getattr(self.solve, "__name__", repr(self.solve)),
+            "boundary": getattr(self.boundary, "__name__", repr(self.boundary)),
             "tolerance": self.tolerance,
             "clearance": self.clearance,
             "cfl": self.cfl,
         }
-
-
-def _voxels(scene: Scene, grid: Grid, q) -> Voxels:
-    return voxelize(scene.shape, grid, *scene.dynamics.link_poses(q))
 
 
 def _point_velocity(scene: Scene, q, qd):
