@@ -21,7 +21,8 @@ def _cmd_bench(args) -> int:
 
     try:
         run_benchmark(args.what, repeats=args.repeats, out=sys.stdout, profile=args.profile,
-                      compare_advection=args.compare_advection)  # fmt: skip
+                      compare_advection=args.compare_advection,
+                      compare_boundary=args.compare_boundary)  # fmt: skip
     except ValueError as err:
         return _fail("bench", err, status=2)
     return 0
@@ -285,6 +286,11 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--profile", action="store_true", help="swim: time per phase of a step")
     bench.add_argument(
         "--compare-advection", action="store_true", help="swim: old and new advection, one run"
+    )
+    bench.add_argument(
+        "--compare-boundary",
+        action="store_true",
+        help="swim: staircase and sub-cell boundaries, one run",
     )
     bench.set_defaults(run=_cmd_bench)
 

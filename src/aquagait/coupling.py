@@ -79,6 +79,10 @@ COUPLED_TOLERANCE = 1e-5
 """Default tolerance of the coupled solve, relative to the fastest speed. The fish
 and the eel swim the same to seven digits at 1e-4, 1e-5 and 1e-6."""
 
+MOSTLY_WATER = 0.5
+"""A coupled face with at least this water fraction keeps the water's velocity
+after the solve (for advection); below it, it takes the body's."""
+
 PointVelocity = Callable[[np.ndarray, np.ndarray], np.ndarray]
 """``point_velocity(points (n, 3), links (n,)) -> (n, 3)``: the rigid velocity of
 points moving with the given links [m/s]; the seam from the body to the fluid."""
@@ -115,7 +119,8 @@ def face_area(grid: Grid, depth: float | None) -> float:
 
 def coupled_rows(voxels: Voxels, jacobians: np.ndarray, area: float):
     """The nonzero rows of ``B^T``: ``(1 - w_f) A n_fc^T J_f`` per coupled face f and
-    cell c with water beside it (module docstring).
+    cell c with water beside it (module docstring); where links meet, each
+    link's row carries its share of ``1 - w_f``.
 
     Args:
         voxels: the voxelized body.
@@ -125,7 +130,7 @@ def coupled_rows(voxels: Voxels, jacobians: np.ndarray, area: float):
         ``(cells, rows)``: (e, dim) the cell of each row, and the rows (e, nv) [m^2].
     """
     face, cell, sign = voxels.sides()
-    solid = area * (1.0 - voxels.face_weight[face]) * sign
+    solid = area * voxels.face_share[face] * sign
     return cell, solid[:, None] * jacobians[face, voxels.face_axis[face], :]
 
 
@@ -133,13 +138,15 @@ def partial_faces(voxels: Voxels) -> PartialFaces:
     """The coupled faces with water on both sides (or water and the open border),
     which the Laplacian weights by their water fraction (module docstring)."""
     shape = np.array(voxels.solid.shape)
-    below = voxels.face_index - np.eye(len(shape), dtype=np.int64)[voxels.face_axis]
-    above = voxels.face_index
-    both = np.ones(voxels.face_count, bool)
+    _, once = np.unique(np.column_stack([voxels.face_axis, voxels.face_index]), axis=0,
+                        return_index=True)  # fmt: skip
+    axis, above, weight = voxels.face_axis[once], voxels.face_index[once], voxels.face_weight[once]
+    below = above - np.eye(len(shape), dtype=np.int64)[axis]
+    both = np.ones(len(once), bool)
     for cell in (below, above):
         inside = np.all((cell >= 0) & (cell < shape), axis=1)
         both[inside] &= ~voxels.solid[tuple(cell[inside].T)]
-    return PartialFaces(below[both], above[both], voxels.face_weight[both])
+    return PartialFaces(below[both], above[both], weight[both])
 
 
 def coupled_system(
@@ -279,7 +286,7 @@ def rigid_faces_(
     box = _solid_box(voxels.owner)
     if box is None:
         return
-    watery = voxels.face_weight >= 0.5
+    watery = voxels.face_weight >= MOSTLY_WATER
     kept = [_coupled_values(velocity, voxels, watery, axis) for axis in range(grid.dim)]
     for axis, component in enumerate(velocity):
         index, lo, hi = _faces_touching_solid(voxels.owner, box, axis)
@@ -294,12 +301,14 @@ def rigid_faces_(
         at, values = kept[axis]
         component[at] = values
     loose = ~watery & ~_touches_owned(voxels)
-    if loose.any():
+    if loose.any():  # where links meet, the mean of theirs weighted by their shares
         speeds = point_velocity(voxels.face_center[loose], voxels.face_link[loose])
-        axes = voxels.face_axis[loose]
+        share = voxels.face_share[loose] / (1.0 - voxels.face_weight[loose])
+        axes, index = voxels.face_axis[loose], voxels.face_index[loose]
         for axis, component in enumerate(velocity):
-            on = axes == axis
-            component[tuple(voxels.face_index[loose][on].T)] = speeds[on, axis]
+            at = tuple(index[axes == axis].T)
+            component[at] = 0.0
+            np.add.at(component, at, share[axes == axis] * speeds[axes == axis, axis])
 
 
 def _coupled_values(velocity: Velocity, voxels: Voxels, chosen: np.ndarray, axis: int):
@@ -364,9 +373,10 @@ def dense_coupled_system(problem: CoupledProblem) -> tuple[np.ndarray, np.ndarra
     in cell c alone, computed face by face: the gradient accelerates the water
     on every face with some (``w > 0``); the pressure difference across each
     coupled face pushes its solid part, ``(1 - w) A (p_lo - p_hi)`` along the
-    axis (``p = 0`` in solid and ghost cells), which accelerates the body
-    through ``Mt``; each face then passes ``w A u + (1 - w) A V`` (``V``: the
-    body's velocity along the axis at the face). ``rho h / (dt A)`` times that
+    axis (``p = 0`` in solid and ghost cells; each link its share where links
+    meet), which accelerates the body through ``Mt``; each face then passes
+    ``w A u + (1 - w) A V`` (``V``: the body's velocity along the axis at the
+    face). ``rho h / (dt A)`` times that
     is the matrix, and minus as much times the outflow at ``p = 0`` the
     right-hand side.
 
@@ -393,13 +403,13 @@ def dense_coupled_system(problem: CoupledProblem) -> tuple[np.ndarray, np.ndarra
             lo = ghosted[tuple(np.add(index, 1) - step)]
             hi = ghosted[tuple(np.add(index, 1))]
             push = np.zeros(3)
-            push[axis] = (1 - voxels.face_weight[f]) * area * (lo - hi)
+            push[axis] = voxels.face_share[f] * area * (lo - hi)
             force += jacobians[f].T @ push
         qd = qd_star + dt * np.linalg.solve(mass_t, force)
         flux = [area * weight[axis] * u[axis] for axis in range(grid.dim)]
         for f in range(voxels.face_count):
             axis, index = voxels.face_axis[f], tuple(voxels.face_index[f])
-            solid = (1 - voxels.face_weight[f]) * area * (jacobians[f] @ qd)[axis]
+            solid = voxels.face_share[f] * area * (jacobians[f] @ qd)[axis]
             flux[axis][index] += solid
         total = net_outflow(grid, tuple(flux))
         return total[~voxels.solid]

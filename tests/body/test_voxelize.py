@@ -151,14 +151,17 @@ def check_faces(voxels: Voxels, grid: Grid):
     assert voxels.solid.shape == voxels.owner.shape == grid.shape
     np.testing.assert_array_equal(voxels.solid, voxels.owner >= 0)
     m = voxels.face_count
-    assert voxels.face_index.shape == voxels.face_cell.shape == (m, dim)
-    assert voxels.face_center.shape == (m, 3)
-    assert set(np.unique(voxels.face_sign)) <= {-1.0, 1.0}
+    assert voxels.face_index.shape == (m, dim) and voxels.face_center.shape == (m, 3)
+    np.testing.assert_array_equal(voxels.face_weight, 0.0)  # a staircase face is wall
+    np.testing.assert_array_equal(voxels.face_share, 1.0)
+    face, cells, signs = voxels.sides()
+    np.testing.assert_array_equal(face, np.arange(m))  # water on exactly one side
+    assert set(np.unique(signs)) <= {-1.0, 1.0}
     centres = [grid.face_centers(axis) for axis in range(dim)]
     for f in range(m):
-        axis, sign = voxels.face_axis[f], voxels.face_sign[f]
+        axis, sign = voxels.face_axis[f], signs[f]
         step = np.eye(dim, dtype=int)[axis]
-        fluid = voxels.face_cell[f]
+        fluid = cells[f]
         solid = fluid - int(sign) * step  # the normal points from the solid into the fluid
         assert not voxels.solid[tuple(fluid)] and voxels.solid[tuple(solid)]
         assert voxels.owner[tuple(solid)] == voxels.face_link[f]
@@ -268,7 +271,7 @@ def test_a_translation_by_whole_cells_shifts_the_voxels_exactly(which, eel, fish
     np.testing.assert_array_equal(after.owner, np.roll(before.owner, cells, axis=axes))
 
     def faces(v, step):
-        rows = zip(v.face_axis, v.face_index + step, v.face_sign, v.face_link, strict=True)
+        rows = zip(v.face_axis, v.face_index + step, v.sides()[2], v.face_link, strict=True)
         return {(int(a), *map(int, i), float(s), int(k)) for a, i, s, k in rows}
 
     assert faces(after, 0) == faces(before, cells)
@@ -398,7 +401,7 @@ def test_fluid_enclosed_by_a_frame_of_links_is_sealed_and_owned():
     hollow = (np.abs(x) < 0.04) & (np.abs(y) < 0.04)
     assert hollow.sum() > 300 and voxels.solid[hollow].all()
     np.testing.assert_array_equal(seal_pockets(voxels.solid), voxels.solid)  # nothing left
-    assert not hollow[tuple(voxels.face_cell.T)].any()  # no coupled face inside
+    assert not hollow[tuple(voxels.sides()[1].T)].any()  # no coupled face inside
     # pocket cells take the nearest wall's link: bottom 0, right 1, top 2, left 3
     for link, point in enumerate([(0, -0.03), (0.03, 0), (0, 0.03), (-0.03, 0)]):
         assert voxels.owner[grid.cell_of(point)] == link

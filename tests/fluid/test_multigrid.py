@@ -15,8 +15,17 @@ def hierarchy_for(shape):
 
 def apply_vcycle(h, r):
     z = np.zeros_like(r)
-    vcycle(r, z, h.diag, h.inverse, h.shapes, h.offsets, np.zeros((5, h.offsets[-1])), h.three_d,
-           band_rows(h, None))
+    vcycle(
+        r,
+        z,
+        h.diag,
+        h.inverse,
+        h.shapes,
+        h.offsets,
+        np.zeros((5, h.offsets[-1])),
+        h.three_d,
+        band_rows(h, None),
+    )
     return z
 
 

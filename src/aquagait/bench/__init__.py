@@ -16,6 +16,7 @@ def run_benchmark(
     out: TextIO = sys.stdout,
     profile: bool = False,
     compare_advection: bool = False,
+    compare_boundary: bool = False,
 ) -> list[dict]:
     """Run one benchmark on one core and print its table.
 
@@ -26,6 +27,8 @@ def run_benchmark(
         profile: swim only: time per phase of the coupled step (``swim.profile``).
         compare_advection: swim only: each advection scheme beside the other
             (``swim.compare_advection``).
+        compare_boundary: swim only: the staircase beside sub-cell boundaries
+            (``swim.compare_boundary``).
     Returns:
         one dict per row of the table.
     """
@@ -33,15 +36,19 @@ def run_benchmark(
         raise ValueError(f"unknown benchmark {what!r}; choose one of {', '.join(BENCHMARKS)}")
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
-    if (profile or compare_advection) and what != "swim":
-        raise ValueError(f"--profile and --compare-advection are for 'swim', not {what!r}")
+    chosen = {"profile": profile, "compare_advection": compare_advection,
+              "compare_boundary": compare_boundary}  # fmt: skip
+    if any(chosen.values()) and what != "swim":
+        raise ValueError(
+            f"--profile, --compare-advection and --compare-boundary are for 'swim', not {what!r}"
+        )
     from aquagait.bench import fluid, optimize, swim
 
     if what != "optimize":  # the optimize benchmark measures two worker processes
         _pin_to_one_core(out)
-    if profile or compare_advection:
-        rows = swim.profile(repeats, out) if profile else []
-        return rows + (swim.compare_advection(repeats, out) if compare_advection else [])
+    if any(chosen.values()):
+        return [row for name, on in chosen.items() if on
+                for row in getattr(swim, name)(repeats, out)]  # fmt: skip
     return {"fluid": fluid, "swim": swim, "optimize": optimize}[what].run(repeats=repeats, out=out)
 
 

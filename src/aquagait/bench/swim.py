@@ -192,40 +192,93 @@ def compare_advection(repeats: int, out: TextIO) -> list[dict]:
     import numpy as np
 
     from aquagait.fluid.advection import bfecc, bfecc_previous
+    from aquagait.sim import EulerFluid
 
     print(f"{'creature':<10}{'grid':>11}{'':>14}{'previous':>10}{'bfecc':>10}{'ratio':>8}",
           file=out)  # fmt: skip
     rows = []
     for name in PAPER_SECONDS_PER_FRAME:
-        old, new = _interleaved_swims(name, (bfecc_previous, bfecc), repeats)
+        fluids = (EulerFluid(advect=bfecc_previous), EulerFluid(advect=bfecc))
+        old, new = _interleaved_swims(name, fluids, repeats)
         row = dict(creature=name, grid=old["grid"], previous=old, bfecc=new,
                    same_qpos=bool(np.array_equal(old["qpos"], new["qpos"])))  # fmt: skip
         rows.append(row)
         for label, key in (("advect ms", "advect"), ("step ms", "step")):
-            a, b = old[key], new[key]
-            print(f"{name:<10}{row['grid']:>11}{label:>14}{a:>10.2f}{b:>10.2f}{a / b:>7.2f}x",
-                  file=out)  # fmt: skip
+            _side_by_side(out, name, row["grid"], label, old[key], new[key], old[key] / new[key])
         print(f"{'':<21}{'same qpos':>14}{'yes' if row['same_qpos'] else 'no':>20}", file=out)
         out.flush()
     return rows
 
 
-def _interleaved_swims(name: str, schemes, repeats: int) -> list[dict]:
-    """Swim ``name`` once per advection scheme, a frame of each in turn.
+def compare_boundary(repeats: int, out: TextIO) -> list[dict]:
+    """The coupled step on the staircase and with sub-cell boundaries, in one run.
 
-    Taking turns spreads the load of a shared machine over all schemes alike.
-    Returns, per scheme: ms per step (advect and whole step) over the timed
-    frames, and the final q.
+    Each creature swims the same frames once with each boundary
+    (``EulerFluid(boundary=...)``), frame about; printed: ms per step of the
+    voxelization, the coupled solve and the whole step, and CG iterations per
+    step, side by side with their ratio (sub-cell over staircase: the cost).
+
+    Returns:
+        one dict per creature with both boundaries' figures.
+    """
+    from aquagait.body.subcell import voxelize_subcell
+    from aquagait.body.voxelize import voxelize
+    from aquagait.sim import EulerFluid
+
+    print(f"{'creature':<10}{'grid':>11}{'':>14}{'staircase':>10}{'subcell':>10}{'cost':>8}",
+          file=out)  # fmt: skip
+    rows = []
+    for name in PAPER_SECONDS_PER_FRAME:
+        fluids = [
+            EulerFluid(boundary=b, solve=_CountingSolve()) for b in (voxelize, voxelize_subcell)
+        ]
+        old, new = _interleaved_swims(name, fluids, repeats)
+        rows.append(dict(creature=name, grid=old["grid"], staircase=old, subcell=new))
+        for label, key in (("voxelize ms", "voxelize"), ("solve ms", "solve"),
+                           ("step ms", "step"), ("CG its", "iterations")):  # fmt: skip
+            _side_by_side(out, name, old["grid"], label, old[key], new[key], new[key] / old[key])
+        out.flush()
+    return rows
+
+
+def _side_by_side(out: TextIO, name: str, grid: str, label: str, a: float, b: float, ratio):
+    """One row of a two-column comparison: the figure of each, and their ratio."""
+    print(f"{name:<10}{grid:>11}{label:>14}{a:>10.2f}{b:>10.2f}{ratio:>7.2f}x", file=out)
+
+
+class _CountingSolve:
+    """``pcg`` that adds up its iterations (for the benchmark's table)."""
+
+    def __init__(self):
+        self.iterations = 0
+
+    def __call__(self, *args, **kwargs):
+        from aquagait.fluid.pcg import pcg
+
+        result = pcg(*args, **kwargs)
+        self.iterations += result.iterations
+        return result
+
+
+def _interleaved_swims(name: str, fluids, repeats: int) -> list[dict]:
+    """Swim ``name`` once per fluid model, a frame of each in turn.
+
+    Taking turns spreads the load of a shared machine over all of them alike.
+    Returns, per fluid: ms per step (voxelize, advect, coupled solve, whole
+    step) over the timed frames, CG iterations per step where the fluid's
+    solver counts them, and the final q.
     """
     import aquagait as ag
-    from aquagait.sim import EulerFluid, advance
+    from aquagait.sim import advance
 
     creature = ag.creatures.get(name)
     swims = []
-    for advect in schemes:
-        scene = ag.make_scene(creature, fluid=EulerFluid(advect=advect))
+    for fluid in fluids:
+        scene = ag.make_scene(creature, fluid=fluid)
         policy, state = _warmed_up(scene, creature)
-        swims.append(dict(scene=scene, policy=policy, state=state, totals=defaultdict(float)))
+        counted = getattr(fluid.solve, "iterations", None)
+        swims.append(dict(scene=scene, policy=policy, state=state, totals=defaultdict(float),
+                          solve=fluid.solve, counted=counted))  # fmt: skip
     for _ in range(repeats):
         for swim in swims:
             state, start = swim["state"], time.perf_counter()
@@ -237,8 +290,13 @@ def _interleaved_swims(name: str, schemes, repeats: int) -> list[dict]:
         dict(
             grid=_grid(creature),
             qpos=s["state"].qpos,
+            voxelize=1e3 * s["totals"]["voxelize"] / s["totals"]["steps"],
             advect=1e3 * s["totals"]["advect"] / s["totals"]["steps"],
+            solve=1e3 * s["totals"]["coupled solve"] / s["totals"]["steps"],
             step=1e3 * s["totals"]["step"] / s["totals"]["steps"],
+            iterations=(s["solve"].iterations - s["counted"]) / s["totals"]["steps"]
+            if s["counted"] is not None
+            else float("nan"),
         )  # fmt: skip
         for s in swims
     ]

@@ -58,6 +58,15 @@ from aquagait.grid import Grid
 WEIGHT_FLOOR = 0.01
 """Water fractions below this close the face."""
 
+SEAM = 0.25
+"""Where two links are within this many cells of the same depth at a sample, the
+sample's solid share is split between them, linearly in the difference: a face
+where links meet passes continuously from one to the other, and mirror-image
+links get mirror-image shares."""
+
+SLOTS = 4
+"""Most links one face's solid part is split between (more is merged into the largest)."""
+
 MARGIN = 2
 """Cells added around the links' boxes: a partly covered cell, and a layer of open water."""
 
@@ -87,18 +96,19 @@ def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels
     first = box[:, 0]
     count = box[:, 1] - first + 1
     samples = tuple(2 * n + 2 if size > 1 else 1 for n, size in zip(count, cells, strict=True))
-    phi = np.full(samples, np.inf)
-    link = np.full(samples, -1, dtype=np.int32)
+    phi = np.full((2,) + samples, np.inf)  # the deepest two links at each sample
+    link = np.full((2,) + samples, -1, dtype=np.int32)
     _sample_(*baked, rot, pos, origin, h, first, phi, link)
     axes = range(grid.dim)
     step = np.eye(3, dtype=np.int64)
     weights = [np.empty(tuple(count + step[a])) for a in axes]
-    links = [np.empty(tuple(count + step[a]), dtype=np.int32) for a in axes]
+    links = [np.empty(tuple(count + step[a]) + (SLOTS,), dtype=np.int32) for a in axes]
+    shares = [np.empty(tuple(count + step[a]) + (SLOTS,)) for a in axes]
     for a in axes:
-        _face_fractions_(phi, link, h, a, weights[a], links[a])
+        _face_fractions_(phi, link, h, a, weights[a], links[a], shares[a])
     inside = owner[tuple(slice(f, f + n) for f, n in zip(first, count, strict=True))]
     deepest = np.empty(tuple(count), dtype=np.int32)
-    _cell_owners_(phi, link, h, inside, deepest)
+    _cell_owners_(phi[0], link[0], h, inside, deepest)
     water = np.ones(cells, bool)
     local_water = _open_cells(weights, tuple(count))
     _seal_(local_water, weights, grid.dim)
@@ -106,7 +116,7 @@ def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels
     _own_sealed(owner, inside, deepest, local_water, first, count)
     faces = []
     for a in axes:
-        faces.append(_coupled(weights[a], links[a], water, first, a))
+        faces.append(_coupled(weights[a], links[a], shares[a], water, first, a))
     return _voxels(grid, owner, water, faces)
 
 
@@ -131,8 +141,9 @@ def _own_sealed(owner, inside, deepest, water, first, count) -> None:
         own_pockets_(owner, pockets, first[0], last[0], first[1], last[1], first[2], last[2])
 
 
-def _coupled(weight, link, water, first, a):
-    """The coupled faces normal to axis ``a``: partly solid, next to a cell with water."""
+def _coupled(weight, link, share, water, first, a):
+    """The coupled faces normal to axis ``a``: partly solid, next to a cell with water;
+    one entry per link with a share of the face."""
     local = np.argwhere(weight < 1)
     index = local + first
     below, above = index - np.eye(3, dtype=np.int64)[a], index
@@ -141,16 +152,21 @@ def _coupled(weight, link, water, first, a):
         inside = np.all((cell >= 0) & (cell < water.shape), axis=1)
         touches[inside] |= water[tuple(cell[inside].T)]
     local, index = local[touches], index[touches]
-    return (np.full(len(index), a), index, weight[tuple(local.T)], link[tuple(local.T)])
+    at = tuple(local.T)
+    face, slot = np.nonzero(share[at] > 0)
+    return (np.full(len(face), a), index[face], weight[at][face], link[at][face, slot],
+            share[at][face, slot])  # fmt: skip
 
 
 def _voxels(grid: Grid, owner, water, faces) -> Voxels:
     dim, h = grid.dim, grid.cell_size
     if faces:
-        axis, index, weight, link = (np.concatenate(parts) for parts in zip(*faces, strict=True))
+        axis, index, weight, link, share = (
+            np.concatenate(parts) for parts in zip(*faces, strict=True)
+        )
     else:
         axis, index = np.zeros(0, np.int64), np.zeros((0, 3), np.int64)
-        weight, link = np.zeros(0), np.zeros(0, np.int64)
+        weight, link, share = np.zeros(0), np.zeros(0, np.int64), np.zeros(0)
     centre = origin_3d(grid.origin, h) + (index + 0.5) * h
     centre[np.arange(axis.size), axis] -= 0.5 * h
     if dim == 2:
@@ -163,6 +179,7 @@ def _voxels(grid: Grid, owner, water, faces) -> Voxels:
         face_weight=weight.astype(float),
         face_link=link.astype(np.int64),
         face_center=centre,
+        face_share=share.astype(float),
     )
 
 
@@ -191,13 +208,14 @@ def _body_box(sdf, offset, dims, lower, spacing, rot, pos, origin, h, cells, box
 
 @numba.njit(cache=True, nogil=True)
 def _sample_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, first, phi, link):
-    """Deepest signed distance and its link at every lattice point, in place.
+    """The two deepest signed distances and their links at every lattice point
+    (``phi[0]``, ``link[0]`` the deepest), in place.
 
     Lattice point ``m`` along a real axis sits at ``(first + m / 2 - 1 / 4) h``
     from the origin (in grid index terms, ``n = 2 first - 1 + m``); a 2D
     grid's single layer is sampled at z = 0.
     """
-    shape = phi.shape
+    shape = phi.shape[1:]
     span = np.empty((3, 2), dtype=np.int64)
     for k in range(dims.shape[0]):
         if dims[k, 0] == 0:
@@ -220,62 +238,109 @@ def _sample_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, first, phi,
                     d = link_distance(
                         sdf, offset[k], dims[k], lower[k], spacing, rot[k], pos[k], x, y, z
                     )
-                    if d < phi[i, j, l]:
-                        phi[i, j, l] = d
-                        link[i, j, l] = k
+                    if d < phi[0, i, j, l]:
+                        phi[1, i, j, l], link[1, i, j, l] = phi[0, i, j, l], link[0, i, j, l]
+                        phi[0, i, j, l], link[0, i, j, l] = d, k
+                    elif d < phi[1, i, j, l]:
+                        phi[1, i, j, l], link[1, i, j, l] = d, k
 
 
 @numba.njit(cache=True, nogil=True)
-def _face_fractions_(phi, link, h, axis, weight, deepest):
-    """Water fraction (0 below ``WEIGHT_FLOOR``) and deepest link of every face
-    normal to ``axis`` in the box, in place."""
+def _face_fractions_(phi, link, h, axis, weight, links, shares):
+    """Every face normal to ``axis`` in the box, in place: its water fraction (0
+    below ``WEIGHT_FLOOR``) and how its solid part splits between links
+    (``links``, ``shares``: ``SLOTS`` per face, -1 and 0 where unused; the
+    shares add up to one minus the water fraction)."""
     n0, n1, n2 = weight.shape
+    base, count = np.empty(3, np.int64), np.empty(3, np.int64)
     for i in range(n0):
         for j in range(n1):
             for l in range(n2):
-                solid, who = _solid_share(phi, link, h, axis, i, j, l)
+                links[i, j, l, :] = -1
+                shares[i, j, l, :] = 0.0
+                _volume(phi.shape[1:], axis, i, j, l, base, count)
+                samples = count[0] * count[1] * count[2]
+                for di in range(count[0]):
+                    for dj in range(count[1]):
+                        for dl in range(count[2]):
+                            at = (base[0] + di, base[1] + dj, base[2] + dl)
+                            solid = _ramp(phi[0][at], h) / samples
+                            if solid == 0.0:
+                                continue
+                            split = _seam_split(phi[0][at], phi[1][at], link[1][at], h)
+                            _add_share(links, shares, i, j, l, link[0][at], split * solid)
+                            if split < 1.0:
+                                _add_share(links, shares, i, j, l, link[1][at], (1 - split) * solid)
+                solid = shares[i, j, l, :].sum()
                 water = 1.0 - solid
-                weight[i, j, l] = water if water >= WEIGHT_FLOOR else 0.0
-                deepest[i, j, l] = who
+                if water < WEIGHT_FLOOR:
+                    water = 0.0
+                    if solid > 0:
+                        shares[i, j, l, :] /= solid
+                weight[i, j, l] = water
+
+
+@numba.njit(cache=True, nogil=True)
+def _ramp(phi, h):
+    """The solid share of a sample's box of ``h / 2`` a side, from its signed distance."""
+    return min(max(0.5 - phi / (0.5 * h), 0.0), 1.0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _seam_split(first, second, second_link, h):
+    """The deepest link's part of a sample where the second is within ``SEAM`` cells."""
+    gap = second - first
+    if second_link < 0 or gap >= SEAM * h:
+        return 1.0
+    return 0.5 + 0.5 * gap / (SEAM * h)
+
+
+@numba.njit(cache=True, nogil=True)
+def _add_share(links, shares, i, j, l, k, amount):
+    """Add ``amount`` of face (i, j, l)'s solid part to link ``k``."""
+    largest = 0
+    for slot in range(links.shape[3]):
+        if links[i, j, l, slot] == k or links[i, j, l, slot] < 0:
+            links[i, j, l, slot] = k
+            shares[i, j, l, slot] += amount
+            return
+        if shares[i, j, l, slot] > shares[i, j, l, largest]:
+            largest = slot
+    shares[i, j, l, largest] += amount
+
+
+@numba.njit(cache=True, nogil=True)
+def _volume(samples, axis, i, j, l, base, count):
+    """The samples of a control volume, in place: first index ``base`` and ``count`` per
+    axis. Cell ``(i, j, l)`` of the box (``axis = -1``), or the face ``(i, j, l)``
+    normal to ``axis``, whose volume starts half a cell lower along it."""
+    index = (i, j, l)
+    for b in range(3):
+        flat = samples[b] == 1
+        count[b] = 1 if flat else 2
+        base[b] = 0 if flat else 2 * index[b] + (0 if b == axis else 1)
 
 
 @numba.njit(cache=True, nogil=True)
 def _cell_owners_(phi, link, h, owner, deepest):
     """Every cell's deepest link, and its owner: that link where more than half
-    the cell is solid, else -1; in place."""
+    the cell is solid, else -1; in place (``phi``, ``link``: the deepest per sample)."""
     n0, n1, n2 = owner.shape
+    base, count = np.empty(3, np.int64), np.empty(3, np.int64)
     for i in range(n0):
         for j in range(n1):
             for l in range(n2):
-                solid, who = _solid_share(phi, link, h, -1, i, j, l)
-                owner[i, j, l] = who if solid > 0.5 else -1
+                _volume(phi.shape, -1, i, j, l, base, count)
+                total, lowest, who = 0.0, np.inf, -1
+                for di in range(count[0]):
+                    for dj in range(count[1]):
+                        for dl in range(count[2]):
+                            at = (base[0] + di, base[1] + dj, base[2] + dl)
+                            total += _ramp(phi[at], h)
+                            if phi[at] < lowest:
+                                lowest, who = phi[at], link[at]
+                owner[i, j, l] = who if total > 0.5 * count[0] * count[1] * count[2] else -1
                 deepest[i, j, l] = who
-
-
-@numba.njit(cache=True, nogil=True)
-def _solid_share(phi, link, h, axis, i, j, l):
-    """Solid share of a control volume and the link of its deepest sample.
-
-    The volume is cell ``(i, j, l)`` of the box (``axis = -1``) or the face
-    ``(i, j, l)`` normal to ``axis``, whose volume starts half a cell lower
-    along it. Each of its 2^dim samples counts ``clip(1/2 - phi / (h/2), 0, 1)``.
-    """
-    index = (i, j, l)
-    base = np.empty(3, dtype=np.int64)
-    count = np.empty(3, dtype=np.int64)
-    for b in range(3):
-        flat = phi.shape[b] == 1
-        count[b] = 1 if flat else 2
-        base[b] = 0 if flat else 2 * index[b] + (0 if b == axis else 1)
-    total, lowest, who = 0.0, np.inf, -1
-    for di in range(count[0]):
-        for dj in range(count[1]):
-            for dl in range(count[2]):
-                p = phi[base[0] + di, base[1] + dj, base[2] + dl]
-                total += min(max(0.5 - p / (0.5 * h), 0.0), 1.0)
-                if p < lowest:
-                    lowest, who = p, link[base[0] + di, base[1] + dj, base[2] + dl]
-    return total / (count[0] * count[1] * count[2]), who
 
 
 def _seal_(water, weights, dim) -> None:

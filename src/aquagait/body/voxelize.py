@@ -61,9 +61,11 @@ class Voxels:
         face_index: (m, dim) int64, its index into ``velocity[a]`` (shape
             ``grid.face_shape(a)``), between cells ``index - e_a`` and ``index``.
         face_weight: (m,) float64, its fluid fraction ``w`` in [0, 1).
-        face_link: (m,) int64, the link whose surface the face cuts (the
-            deepest one where several do).
+        face_link: (m,) int64, the link whose surface the face cuts.
         face_center: (m, 3) world position of the face centre [m] (z = 0 in 2D).
+        face_share: (m,) float64, the share of the face's control volume that
+            is this link. A face where links meet is listed once per link;
+            its shares add up to ``1 - w`` (staircase: one link, share 1).
     """
 
     solid: np.ndarray
@@ -73,10 +75,11 @@ class Voxels:
     face_weight: np.ndarray
     face_link: np.ndarray
     face_center: np.ndarray
+    face_share: np.ndarray
 
     @property
     def face_count(self) -> int:
-        """``m``, the number of coupled faces."""
+        """``m``, the number of coupled faces (a face counts once per link it cuts)."""
         return int(self.face_axis.shape[0])
 
     def sides(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -142,6 +145,7 @@ def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
         face_weight=np.zeros(axis.size),
         face_link=link,
         face_center=centre,
+        face_share=np.ones(axis.size),
     )
 
 

@@ -34,8 +34,8 @@ from dataclasses import dataclass, field, replace
 from numbers import Real
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
-from aquagait.body.surface import Surface, body_surface
 from aquagait.body.subcell import voxelize_subcell
+from aquagait.body.surface import Surface, body_surface
 from aquagait.body.voxelize import Voxels
 from aquagait.coupling import (
     COUPLED_TOLERANCE,
