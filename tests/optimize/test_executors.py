@@ -218,3 +218,15 @@ def test_a_two_thread_dask_worker_gives_the_serial_eel_optimization(two_thread_w
         threaded = optimize(setup.problem, setup.settings, executor)
     assert [row["penalized"] for row in threaded.history] == [[], []]
     same_run(serial, threaded)
+
+
+def _thread_pools() -> tuple[str | None, int]:
+    import numba
+
+    return os.environ.get("OPENBLAS_NUM_THREADS"), numba.config.NUMBA_NUM_THREADS
+
+
+def test_worker_processes_run_their_thread_pools_with_one_thread():
+    """Two workers on two cores must not each start a BLAS or Numba pool per core."""
+    with local_executor(2) as executor:
+        assert executor.submit(_thread_pools).result(timeout=60) == ("1", 1)

@@ -38,6 +38,17 @@ START_METHOD = "forkserver" if "forkserver" in multiprocessing.get_all_start_met
 
 DIST_HINT = "pip install 'aquagait[dist]'"
 
+ONE_THREAD = {
+    "OPENBLAS_NUM_THREADS": "1",
+    "OMP_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "NUMBA_NUM_THREADS": "1",
+}
+"""Thread pools of a worker process: one thread each. A sample's work is
+serial (Numba kernels, MuJoCo, small dense algebra), so a BLAS pool of one
+thread per core in every worker would only make the workers fight for the
+cores. Set in the environment the workers start from, unless already set."""
+
 
 def available_cores() -> int:
     """The CPU cores this process may run on."""
@@ -83,6 +94,8 @@ class ProcessExecutor(cf.Executor):
         return f"{self.workers} worker process{'es' * (self.workers != 1)}"
 
     def _new_pool(self) -> cf.ProcessPoolExecutor:
+        for name, value in ONE_THREAD.items():  # read once, as each library loads
+            os.environ.setdefault(name, value)
         return cf.ProcessPoolExecutor(self.workers, mp_context=self._context)
 
     def submit(self, fn, /, *args, **kwargs) -> cf.Future:
