@@ -134,3 +134,17 @@ def test_the_progress_bar_writes_a_line_per_tenth_into_a_log():
     lines = stream.getvalue().splitlines()
     assert len(lines) == 11 and "\r" not in stream.getvalue()  # the start, then each tenth
     assert lines[-1].startswith("swimming [##########] 100/100 frames")
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["bench", "swim", "--creature", "fish"], "--creature is for 'optimize', not 'swim'"),
+        (["bench", "fluid", "--compare-boundary"], "are for 'swim', not 'fluid'"),
+        (["bench", "optimize", "--creature", "nessie"], "unknown creature 'nessie'"),
+    ],
+)
+def test_bench_options_for_another_benchmark_or_creature_are_refused(argv, message, capsys):
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert message in err and "pinned" not in out  # refused before anything ran

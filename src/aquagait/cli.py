@@ -22,8 +22,9 @@ def _cmd_bench(args) -> int:
     try:
         run_benchmark(args.what, repeats=args.repeats, out=sys.stdout, profile=args.profile,
                       compare_advection=args.compare_advection,
-                      compare_boundary=args.compare_boundary)  # fmt: skip
-    except ValueError as err:
+                      compare_boundary=args.compare_boundary,
+                      creature=args.creature)  # fmt: skip
+    except (ValueError, KeyError) as err:  # KeyError: an unknown creature
         return _fail("bench", err, status=2)
     return 0
 
@@ -291,6 +292,9 @@ def build_parser() -> argparse.ArgumentParser:
         "--compare-boundary",
         action="store_true",
         help="swim: staircase and sub-cell boundaries, one run",
+    )
+    bench.add_argument(
+        "--creature", metavar="NAME", help="optimize: the creature to time (default eel2d)"
     )
     bench.set_defaults(run=_cmd_bench)
 

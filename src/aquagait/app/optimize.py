@@ -31,7 +31,7 @@ from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
 from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
-from aquagait.sim import Scene, init_state, make_scene, rollout
+from aquagait.sim import EulerFluid, Scene, init_state, make_scene, rollout
 
 DEFAULT_CYCLES = 2.0
 """Gait cycles simulated per sample (paper §4)."""
@@ -59,6 +59,8 @@ class SwimObjective:
         seconds: simulated time per sample [s] (two cycles).
         direction: desired swimming direction, (dim,).
         weights: the objective's weights.
+        clearance: cells of water the Euler fluid keeps around the body, or
+            None for its default (a coarse grid keeps fewer, as many metres).
     """
 
     creature: str
@@ -68,17 +70,21 @@ class SwimObjective:
     seconds: float = 2.0
     direction: tuple[float, ...] = (1.0, 0.0)
     weights: objectives.Weights = field(default_factory=objectives.Weights)
+    clearance: float | None = None
 
     def __call__(self, params) -> float:
-        creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid)
+        creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid,
+                                 self.clearance)  # fmt: skip
         policy = creature.policy(np.asarray(params, dtype=float))
         traj = rollout(scene, init_state(scene), policy, self.seconds, record_fluid=False)
         return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights)
 
 
 @functools.lru_cache(maxsize=4)
-def _scene(name: str, resolution, cell_size, fluid: str) -> tuple[Creature, Scene]:
+def _scene(name: str, resolution, cell_size, fluid: str, clearance=None) -> tuple[Creature, Scene]:
     creature = creatures.resolve(name)
+    if fluid == "euler" and clearance is not None:
+        fluid = EulerFluid(clearance=clearance)
     return creature, make_scene(creature, resolution, cell_size, fluid=fluid)
 
 
@@ -123,7 +129,8 @@ class OptimizationSetup:
         o, s = self.objective, self.settings
         return dict(
             creature=self.creature.name, fluid=o.fluid, resolution=o.resolution,
-            cell_size=o.cell_size, seconds_per_sample=o.seconds, direction=list(o.direction),
+            cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
+            direction=list(o.direction),
             weights=vars(o.weights), energy_bound=self.creature.energy_bound,
             popsize=s.popsize, generations=s.generations, seed=s.seed,
             parameters=list(self.problem.names), x0=self.problem.x0.tolist(),
@@ -232,7 +239,8 @@ def _coarse_to_fine(creature: Creature, objective: SwimObjective, factor: float)
     except ValueError as err:
         raise OptimizationSetupError(f"the coarse grid: {err}") from None
     refine = replace(objective, resolution=tuple(resolution), cell_size=cell_size)
-    coarse = replace(objective, resolution=grid.resolution, cell_size=grid.cell_size)
+    coarse = replace(objective, resolution=grid.resolution, cell_size=grid.cell_size,
+                     clearance=grid.clearance)  # fmt: skip
     return coarse, refine, grid.notes
 
 

@@ -17,6 +17,7 @@ def run_benchmark(
     profile: bool = False,
     compare_advection: bool = False,
     compare_boundary: bool = False,
+    creature: str | None = None,
 ) -> list[dict]:
     """Run one benchmark on one core and print its table.
 
@@ -29,6 +30,8 @@ def run_benchmark(
             (``swim.compare_advection``).
         compare_boundary: swim only: the staircase beside sub-cell boundaries
             (``swim.compare_boundary``).
+        creature: optimize only: the creature whose optimization is timed
+            (default eel2d).
     Returns:
         one dict per row of the table.
     """
@@ -42,6 +45,8 @@ def run_benchmark(
         raise ValueError(
             f"--profile, --compare-advection and --compare-boundary are for 'swim', not {what!r}"
         )
+    if creature is not None and what != "optimize":
+        raise ValueError(f"--creature is for 'optimize', not {what!r}")
     from aquagait.bench import fluid, optimize, swim
 
     if what != "optimize":  # the optimize benchmark measures two worker processes
@@ -49,6 +54,8 @@ def run_benchmark(
     if any(chosen.values()):
         return [row for name, on in chosen.items() if on
                 for row in getattr(swim, name)(repeats, out)]  # fmt: skip
+    if creature is not None:
+        return optimize.run(repeats=repeats, out=out, creature=creature)
     return {"fluid": fluid, "swim": swim, "optimize": optimize}[what].run(repeats=repeats, out=out)
 
 
