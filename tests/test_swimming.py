@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import aquagait as ag
+from aquagait.coupling import COUPLED_TOLERANCE
 from aquagait.control import GaitSpec, StablePD
 from aquagait.sim import SimulationDiverged
 
@@ -52,9 +53,11 @@ def test_symmetric_creature_with_a_mirrored_gait_does_not_drift_sideways_or_turn
     print(f"frog2d 1 s: x {x[-1] - x[0]:+.4f} m, |y| {np.abs(y).max():.2e} m, "
           f"|theta| {np.abs(theta).max():.2e} rad")  # fmt: skip
     assert abs(x[-1] - x[0]) > 0.005  # it does move
-    # mirror symmetry holds to the pressure solve's tolerance, not to round-off
-    assert np.abs(y).max() < 1e-4 * model.body_length
-    assert np.abs(theta).max() < 1e-4
+    # mirror symmetry holds to the pressure solve's tolerance, not to round-off (the
+    # red-black smoother's colours are not mirror images): measured at tolerance 1e-3
+    # |y| 3.3e-5 body lengths and |theta| 1.1e-4 rad; at 1e-5, a hundred times less
+    assert np.abs(y).max() < 0.1 * COUPLED_TOLERANCE * model.body_length
+    assert np.abs(theta).max() < 0.3 * COUPLED_TOLERANCE
 
 
 def test_fish_with_a_tail_beat_swims_forward_in_3d():
