@@ -140,7 +140,7 @@ def test_the_progress_bar_writes_a_line_per_tenth_into_a_log():
     "argv, message",
     [
         (["bench", "swim", "--creature", "fish"], "--creature is for 'optimize', not 'swim'"),
-        (["bench", "fluid", "--compare-boundary"], "are for 'swim', not 'fluid'"),
+        (["bench", "fluid", "--compare-boundary"], "--compare-* are for 'swim', not 'fluid'"),
         (["bench", "optimize", "--creature", "nessie"], "unknown creature 'nessie'"),
     ],
 )

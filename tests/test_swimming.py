@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import aquagait as ag
-from aquagait.coupling import COUPLED_TOLERANCE
 from aquagait.control import GaitSpec, StablePD
+from aquagait.coupling import COUPLED_TOLERANCE
 from aquagait.sim import SimulationDiverged
 
 # 2D, mirror-symmetric about the x axis: a body with two legs whose hinges

@@ -23,6 +23,7 @@ def _cmd_bench(args) -> int:
         run_benchmark(args.what, repeats=args.repeats, out=sys.stdout, profile=args.profile,
                       compare_advection=args.compare_advection,
                       compare_boundary=args.compare_boundary,
+                      compare_start=args.compare_start,
                       creature=args.creature)  # fmt: skip
     except (ValueError, KeyError) as err:  # KeyError: an unknown creature
         return _fail("bench", err, status=2)
@@ -292,6 +293,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--compare-boundary",
         action="store_true",
         help="swim: staircase and sub-cell boundaries, one run",
+    )
+    bench.add_argument(
+        "--compare-start",
+        action="store_true",
+        help="swim: the step as the 3D-speed work found it beside today's, one run",
     )
     bench.add_argument(
         "--creature", metavar="NAME", help="optimize: the creature to time (default eel2d)"

@@ -144,8 +144,7 @@ def partial_faces(voxels: Voxels) -> PartialFaces:
     """The coupled faces with water on both sides (or water and the open border),
     which the Laplacian weights by their water fraction (module docstring)."""
     shape = np.array(voxels.solid.shape)
-    _, once = np.unique(np.column_stack([voxels.face_axis, voxels.face_index]), axis=0,
-                        return_index=True)  # fmt: skip
+    once = voxels.first_entries()
     axis, above, weight = voxels.face_axis[once], voxels.face_index[once], voxels.face_weight[once]
     below = above - np.eye(len(shape), dtype=np.int64)[axis]
     both = np.ones(len(once), bool)

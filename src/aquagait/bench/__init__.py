@@ -17,6 +17,7 @@ def run_benchmark(
     profile: bool = False,
     compare_advection: bool = False,
     compare_boundary: bool = False,
+    compare_start: bool = False,
     creature: str | None = None,
 ) -> list[dict]:
     """Run one benchmark on one core and print its table.
@@ -30,6 +31,8 @@ def run_benchmark(
             (``swim.compare_advection``).
         compare_boundary: swim only: the staircase beside sub-cell boundaries
             (``swim.compare_boundary``).
+        compare_start: swim only: the step as the 3D-speed work found it beside
+            today's (``swim.compare_start``).
         creature: optimize only: the creature whose optimization is timed
             (default eel2d).
     Returns:
@@ -40,11 +43,9 @@ def run_benchmark(
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
     chosen = {"profile": profile, "compare_advection": compare_advection,
-              "compare_boundary": compare_boundary}  # fmt: skip
+              "compare_boundary": compare_boundary, "compare_start": compare_start}  # fmt: skip
     if any(chosen.values()) and what != "swim":
-        raise ValueError(
-            f"--profile, --compare-advection and --compare-boundary are for 'swim', not {what!r}"
-        )
+        raise ValueError(f"--profile and --compare-* are for 'swim', not {what!r}")
     if creature is not None and what != "optimize":
         raise ValueError(f"--creature is for 'optimize', not {what!r}")
     from aquagait.bench import fluid, optimize, swim

@@ -246,6 +246,50 @@ def _side_by_side(out: TextIO, name: str, grid: str, label: str, a: float, b: fl
     print(f"{name:<10}{grid:>11}{label:>14}{a:>10.2f}{b:>10.2f}{ratio:>7.2f}x", file=out)
 
 
+def compare_start(repeats: int, out: TextIO) -> list[dict]:
+    """The coupled step as it was when the 3D-speed work began, beside today's.
+
+    Three fluids swim the same frames, frame about: the start (the previous
+    BFECC kernels, the staircase, solve tolerance 1e-5), today's step with the
+    same staircase physics, and today's default (sub-cell boundaries).
+    Printed: ms per step of advection, coupled solve and the whole step, CG
+    iterations a step, and each column's speed-up over the start.
+
+    Returns:
+        one dict per creature with the three fluids' figures.
+    """
+    from aquagait.body.voxelize import voxelize
+    from aquagait.fluid.advection import bfecc_previous
+    from aquagait.sim import EulerFluid
+
+    fluids = {
+        "start": dict(advect=bfecc_previous, boundary=voxelize, tolerance=1e-5),
+        "staircase": dict(boundary=voxelize),
+        "subcell": {},
+    }
+    print(f"{'creature':<10}{'grid':>11}{'':>14}" + "".join(f"{k:>11}" for k in fluids)
+          + f"{'speed-up':>18}", file=out)  # fmt: skip
+    rows = []
+    for name in PAPER_SECONDS_PER_FRAME:
+        swims = _interleaved_swims(
+            name, [EulerFluid(solve=_CountingSolve(), **f) for f in fluids.values()], repeats
+        )
+        figures = dict(zip(fluids, swims, strict=True))
+        rows.append(dict(creature=name, grid=swims[0]["grid"], **figures))
+        for label, key in (("advect ms", "advect"), ("solve ms", "solve"),
+                           ("step ms", "step"), ("CG its", "iterations")):  # fmt: skip
+            values = [figures[k][key] for k in fluids]
+            faster = (
+                ""
+                if key == "iterations"
+                else "  ".join(f"{values[0] / v:.2f}x" for v in values[1:])
+            )
+            print(f"{name:<10}{swims[0]['grid']:>11}{label:>14}"
+                  + "".join(f"{v:>11.2f}" for v in values) + f"{faster:>18}", file=out)  # fmt: skip
+        out.flush()
+    return rows
+
+
 class _CountingSolve:
     """``pcg`` that adds up its iterations (for the benchmark's table)."""
 

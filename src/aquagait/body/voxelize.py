@@ -64,8 +64,9 @@ class Voxels:
         face_link: (m,) int64, the link whose surface the face cuts.
         face_center: (m, 3) world position of the face centre [m] (z = 0 in 2D).
         face_share: (m,) float64, the share of the face's control volume that
-            is this link. A face where links meet is listed once per link;
-            its shares add up to ``1 - w`` (staircase: one link, share 1).
+            is this link. A face where links meet is listed once per link,
+            in rows next to each other; its shares add up to ``1 - w``
+            (staircase: one link, share 1).
     """
 
     solid: np.ndarray
@@ -82,12 +83,18 @@ class Voxels:
         """``m``, the number of coupled faces (a face counts once per link it cuts)."""
         return int(self.face_axis.shape[0])
 
+    def first_entries(self) -> np.ndarray:
+        """The rows that list each coupled face first: one row per face."""
+        key = np.column_stack([self.face_axis, self.face_index])
+        return np.flatnonzero(np.r_[True, np.any(key[1:] != key[:-1], axis=1)])
+
     def sides(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The cells with water on either side of every coupled face.
 
         Returns:
             ``(face, cell, sign)``, one entry per coupled face and neighbour
-            cell that is in the grid and not solid: the face's row (e,), the
+            cell that is in the grid and not solid (the cells below every
+            face first, then those above): the face's row (e,), the
             cell (e, dim), and the sign of the normal ``n = sign * e_a`` that
             points from the face's solid part into that cell (+1: the cell
             above the face, ``index``; -1: the cell below, ``index - e_a``).
@@ -102,9 +109,7 @@ class Voxels:
             faces.append(keep)
             cells.append(cell[keep])
             signs.append(np.full(len(keep), sign))
-        order = np.argsort(np.concatenate(faces), kind="stable")
-        return (np.concatenate(faces)[order], np.concatenate(cells)[order],
-                np.concatenate(signs)[order])  # fmt: skip
+        return np.concatenate(faces), np.concatenate(cells), np.concatenate(signs)
 
 
 def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
