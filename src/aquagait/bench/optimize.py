@@ -36,14 +36,16 @@ def run(repeats: int, out: TextIO, creature: str = "eel2d") -> list[dict]:
     model = ag.creatures.get(creature)
     target = (model.resolution, model.cell_size)
     coarse = coarse_grid(model, *target, COARSE_FACTOR)
-    grids = {"target": target, "coarse": (coarse.resolution, coarse.cell_size)}
+    grids = {"target": (*target, None), "coarse": (coarse.resolution, coarse.cell_size,
+                                                 coarse.clearance)}  # fmt: skip
     samples = _admissible_gaits(model, max(repeats, 4))
     print(f"{'creature':<10}{'grid':>8}{'cells':>11}{'workers':>8}{'evals_per_min':>15}"
           f"{'scaling':>9}", file=out, flush=True)  # fmt: skip
     rows = []
-    for name, (resolution, cell_size) in grids.items():
+    for name, (resolution, cell_size, clearance) in grids.items():
         direction = (1.0,) + (0.0,) * (model.dim - 1)
-        objective = SwimObjective(creature, tuple(resolution), cell_size, direction=direction)
+        objective = SwimObjective(creature, tuple(resolution), cell_size, direction=direction,
+                                  clearance=clearance)  # fmt: skip
         objective(samples[0])  # warm: the scene and the kernels
         serial = _rate(lambda xs, f=objective: [f(x) for x in xs], samples)
         with local_executor(2) as pool:
