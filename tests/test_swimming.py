@@ -54,8 +54,8 @@ def test_symmetric_creature_with_a_mirrored_gait_does_not_drift_sideways_or_turn
           f"|theta| {np.abs(theta).max():.2e} rad")  # fmt: skip
     assert abs(x[-1] - x[0]) > 0.005  # it does move
     # mirror symmetry holds to the pressure solve's tolerance, not to round-off (the
-    # red-black smoother's colours are not mirror images): measured at tolerance 1e-3
-    # |y| 3.3e-5 body lengths and |theta| 1.1e-4 rad; at 1e-5, a hundred times less
+    # red-black smoother's colours are not mirror images): measured at tolerance 1e-4
+    # |y| 2.9e-6 body lengths and |theta| 1.05e-5 rad; at 1e-3 up to 2e-4 and 9.5e-4
     assert np.abs(y).max() < 0.1 * COUPLED_TOLERANCE * model.body_length
     assert np.abs(theta).max() < 0.3 * COUPLED_TOLERANCE
 
@@ -82,3 +82,23 @@ def test_a_run_that_blows_up_says_when_and_how_fast_instead_of_writing_nans():
 
     with pytest.raises(SimulationDiverged, match=r"diverged at t = [\d.]+ s: in one step the body"):
         ag.rollout(scene, ag.init_state(scene), flail, seconds=1.0)
+
+
+def eel_distance(cells: int, dt: float) -> float:
+    """The shipped eel2d gait's distance over 2 s from rest, in one 1.28 x 0.64 m domain."""
+    eel = ag.creatures.get("eel2d")
+    scene = ag.make_scene(eel, (cells, cells // 2), 1.28 / cells, fluid="euler")
+    traj = ag.rollout(scene, ag.init_state(scene), eel.policy(), 2.0, dt=dt, record_fluid=False)
+    return float(traj.qpos[-1, 0] - traj.qpos[0, 0])
+
+
+@pytest.mark.slow
+def test_the_eel_s_distance_converges_with_the_grid():
+    """Sub-cell boundaries, steps of 1/270 s (the default 1/90 s adds a first-order
+    time-step error of ~9% at 128x64: README, Two-way coupling): the change per
+    halving of h shrinks by half or more, and the default grid is within 5% of
+    512x256. Measured 0.3225, 0.3445, 0.3380 m at 128, 256 and 512 cells."""
+    coarse, middle, fine = (eel_distance(n, 1 / 270) for n in (128, 256, 512))
+    print(f"eel2d 2 s, dt 1/270 s: {coarse:.4f}, {middle:.4f}, {fine:.4f} m")
+    assert abs(fine - middle) <= 0.5 * abs(middle - coarse)
+    assert abs(coarse - fine) < 0.05 * fine

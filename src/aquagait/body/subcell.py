@@ -95,6 +95,7 @@ def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels
         return _voxels(grid, owner, np.ones(cells, bool), [])
     first = box[:, 0]
     count = box[:, 1] - first + 1
+    region = tuple(slice(f, f + n) for f, n in zip(first, count, strict=True))
     samples = tuple(2 * n + 2 if size > 1 else 1 for n, size in zip(count, cells, strict=True))
     phi = np.full((2,) + samples, np.inf)  # the deepest two links at each sample
     link = np.full((2,) + samples, -1, dtype=np.int32)
@@ -106,13 +107,13 @@ def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels
     shares = [np.empty(tuple(count + step[a]) + (SLOTS,)) for a in axes]
     for a in axes:
         _face_fractions_(phi, link, h, a, weights[a], links[a], shares[a])
-    inside = owner[tuple(slice(f, f + n) for f, n in zip(first, count, strict=True))]
+    inside = owner[region]  # a view: the box's owners are written in place
     deepest = np.empty(tuple(count), dtype=np.int32)
     _cell_owners_(phi[0], link[0], h, inside, deepest)
     water = np.ones(cells, bool)
     local_water = _open_cells(weights, tuple(count))
     _seal_(local_water, weights, grid.dim)
-    water[tuple(slice(f, f + n) for f, n in zip(first, count, strict=True))] = local_water
+    water[region] = local_water
     _own_sealed(owner, inside, deepest, local_water, first, count)
     faces = []
     for a in axes:

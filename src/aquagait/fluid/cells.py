@@ -31,6 +31,15 @@ def interior(padded: np.ndarray, dim: int) -> np.ndarray:
     return padded[1:-1, 1:-1, 1:-1]
 
 
+def padded_flat(cells: np.ndarray, padded: tuple[int, int, int]) -> np.ndarray:
+    """Flat indices into the padded layout of grid cell indices, (n, dim); -1 and the
+    grid's size along an axis are the ghosts on either side."""
+    cells = np.asarray(cells, dtype=np.int64) + 1
+    if cells.shape[1] == 2:
+        cells = np.column_stack([cells, np.zeros(len(cells), np.int64)])
+    return np.ravel_multi_index(tuple(cells.T), padded)
+
+
 def pad(field: np.ndarray) -> np.ndarray:
     """Copy a cell field into a new zero-ghosted padded array."""
     out = np.zeros(padded_shape(field.shape))

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from aquagait.fluid.cells import padded_shape
+from aquagait.fluid.cells import padded_flat, padded_shape
 from aquagait.fluid.scratch import per_thread_cache
 
 SMOOTHING_STEPS_2D = 2
@@ -479,7 +479,7 @@ def band_rows(hierarchy: Hierarchy, partial) -> tuple:
         return _no_band()
     shape = tuple(hierarchy.shapes[0])
     diag = hierarchy.level_diag(0).ravel()
-    below, above = (_flat(np.asarray(c), shape) for c in (partial.below, partial.above))
+    below, above = (padded_flat(c, shape) for c in (partial.below, partial.above))
     cells = np.unique(np.concatenate([below, above]))
     cells = cells[diag[cells] != 0]
     strides = np.array([shape[1] * shape[2], shape[2], 1])
@@ -498,14 +498,6 @@ def band_rows(hierarchy: Hierarchy, partial) -> tuple:
     parity = np.sum(np.stack(np.unravel_index(cells, shape), axis=-1), axis=1) % 2
     inverse = (1.0 / weight.sum(axis=1)).astype(np.float32)
     return cells.astype(np.int64), near.astype(np.int64), weight, inverse, parity.astype(np.int64)
-
-
-def _flat(cells: np.ndarray, shape: tuple[int, int, int]) -> np.ndarray:
-    """Flat padded indices of grid cell indices (-1 and n: ghosts)."""
-    padded = np.asarray(cells, dtype=np.int64) + 1
-    if padded.shape[1] == 2:
-        padded = np.column_stack([padded, np.zeros(len(padded), np.int64)])
-    return np.ravel_multi_index(tuple(padded.T), shape)
 
 
 @per_thread_cache(maxsize=4)

@@ -1,8 +1,10 @@
 """Matrix-free preconditioned conjugate gradients for the pressure system.
 
 Solves ``(L + U C U^T) p = b`` where ``L`` is the cell-centred Laplacian over
-fluid faces (open-boundary ghosts included, DESIGN.md §2.3) and ``U C U^T`` an
-optional symmetric positive semi-definite low-rank term. The fluid alone uses
+fluid faces (open-boundary ghosts included, DESIGN.md §2.3), each face
+weighted by its water fraction where ``PartialFaces`` lists one (sub-cell
+boundaries), and ``U C U^T`` an optional symmetric positive semi-definite
+low-rank term. The fluid alone uses
 ``L``; two-way coupling adds ``(rho h / A) B^T Mt^-1 B`` as a ``LowRank`` whose
 rows are the coupled cells, without touching this solver. The preconditioner
 acts on ``L`` alone; the rank-``k`` term costs at most ``k`` extra iterations.
@@ -25,7 +27,7 @@ import numba
 import numpy as np
 
 from aquagait.fluid import multigrid
-from aquagait.fluid.cells import interior, padded_shape, seal_pockets
+from aquagait.fluid.cells import interior, padded_flat, padded_shape, seal_pockets
 from aquagait.fluid.multigrid import Hierarchy, build_hierarchy, laplacian
 from aquagait.fluid.scratch import per_thread_cache
 
@@ -104,7 +106,8 @@ class PressureSystem:
             Laplacian with every face between fluid cells open).
         low_rank: an optional ``LowRank`` term.
         partial: optional ``PartialFaces``: faces weighted below 1. The
-            preconditioner does not see them (it acts on the unweighted ``L``).
+            multigrid's finest smoother uses them (``multigrid.band_rows``);
+            ``mic0`` and ``jacobi`` act on the unweighted ``L``.
     """
 
     shape: tuple[int, ...]
@@ -285,7 +288,7 @@ def _low_rank_arrays(system: PressureSystem, padded: tuple[int, int, int]):
     lr = system.low_rank
     if lr is None:
         return np.zeros(0, np.int64), np.zeros((0, 0)), np.zeros((0, 0))
-    flat = _padded_flat(lr.cells, padded)
+    flat = padded_flat(lr.cells, padded)
     return flat, np.ascontiguousarray(lr.rows, float), np.ascontiguousarray(lr.core, float)
 
 
@@ -294,16 +297,8 @@ def _partial_arrays(system: PressureSystem, padded: tuple[int, int, int]):
     faces = system.partial
     if faces is None:
         return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
-    flat = [_padded_flat(cells, padded) for cells in (faces.below, faces.above)]
+    flat = [padded_flat(cells, padded) for cells in (faces.below, faces.above)]
     return flat[0], flat[1], np.asarray(faces.weight, dtype=float) - 1.0
-
-
-def _padded_flat(cells: np.ndarray, padded: tuple[int, int, int]) -> np.ndarray:
-    """Flat indices into the padded layout of grid cell indices (-1 and n: ghosts)."""
-    cells = np.asarray(cells, dtype=np.int64) + 1
-    if cells.shape[1] == 2:
-        cells = np.column_stack([cells, np.zeros(len(cells), np.int64)])
-    return np.ravel_multi_index(tuple(cells.T), padded)
 
 
 def _as_3d(field: np.ndarray) -> np.ndarray:
