@@ -5,7 +5,7 @@ fewer cells, and the CFL step grows with h), and the best of every
 generation are swum again on the target grid. The coarse grid spans at least
 the same water, and keeps the same metres of clearance between the body and
 the walls (``CLEARANCE / factor`` coarse cells): keeping 8 coarse cells made
-the fish's coarse grid 36x26x30 instead of 32x16x16, only 2x cheaper to swim
+the fish's coarse grid 36x26x30 instead of 32x16x18, only 2x cheaper to swim
 than the target grid. A link thinner than about two coarse cells is resolved
 only by the sub-cell boundary's fractions, so the coarse swim may rank gaits
 unlike the fine one: that is said in a note.
