@@ -144,19 +144,13 @@ def _own_sealed(owner, inside, deepest, water, first, count) -> None:
 
 def _coupled(weight, link, share, water, first, a):
     """The coupled faces normal to axis ``a``: partly solid, next to a cell with water;
-    one entry per link with a share of the face."""
-    local = np.argwhere(weight < 1)
-    index = local + first
-    below, above = index - np.eye(3, dtype=np.int64)[a], index
-    touches = np.zeros(len(index), bool)
-    for cell in (below, above):
-        inside = np.all((cell >= 0) & (cell < water.shape), axis=1)
-        touches[inside] |= water[tuple(cell[inside].T)]
-    local, index = local[touches], index[touches]
-    at = tuple(local.T)
-    face, slot = np.nonzero(share[at] > 0)
-    return (np.full(len(face), a), index[face], weight[at][face], link[at][face, slot],
-            share[at][face, slot])  # fmt: skip
+    one entry per link with a share of the face, a face's entries next to each other."""
+    rows, none, links = np.empty((0, 3), np.int64), np.empty(0), np.empty(0, np.int64)
+    count = _coupled_sweep_(weight, link, share, water, first, a, rows, none, links, none)
+    index = np.empty((count, 3), np.int64)
+    at, links, shares = np.empty(count), np.empty(count, np.int64), np.empty(count)
+    _coupled_sweep_(weight, link, share, water, first, a, index, at, links, shares)
+    return np.full(count, a), index, at, links, shares
 
 
 def _voxels(grid: Grid, owner, water, faces) -> Voxels:
@@ -342,6 +336,42 @@ def _cell_owners_(phi, link, h, owner, deepest):
                                 lowest, who = phi[at], link[at]
                 owner[i, j, l] = who if total > 0.5 * count[0] * count[1] * count[2] else -1
                 deepest[i, j, l] = who
+
+
+@numba.njit(cache=True, nogil=True)
+def _coupled_sweep_(weight, link, share, water, first, a, index, at, links, shares):
+    """Count the coupled faces' entries (face and link) normal to axis ``a``; fill the
+    arrays too when they are long enough (``at``: the face's water fraction)."""
+    fill = at.size > 0
+    n0, n1, n2 = weight.shape
+    count = 0
+    for i in range(n0):
+        for j in range(n1):
+            for l in range(n2):
+                if weight[i, j, l] >= 1.0:
+                    continue
+                above = (first[0] + i, first[1] + j, first[2] + l)
+                below = (above[0] - int(a == 0), above[1] - int(a == 1), above[2] - int(a == 2))
+                if not (_has_water(water, above) or _has_water(water, below)):
+                    continue
+                for slot in range(share.shape[3]):
+                    if share[i, j, l, slot] <= 0.0:
+                        continue
+                    if fill:
+                        index[count, 0], index[count, 1], index[count, 2] = above
+                        at[count] = weight[i, j, l]
+                        links[count] = link[i, j, l, slot]
+                        shares[count] = share[i, j, l, slot]
+                    count += 1
+    return count
+
+
+@numba.njit(cache=True, nogil=True)
+def _has_water(water, cell):
+    for b in range(3):
+        if cell[b] < 0 or cell[b] >= water.shape[b]:
+            return False
+    return water[cell[0], cell[1], cell[2]]
 
 
 def _seal_(water, weights, dim) -> None:
