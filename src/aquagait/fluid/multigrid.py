@@ -477,27 +477,59 @@ def band_rows(hierarchy: Hierarchy, partial) -> tuple:
     """
     if partial is None or len(partial.weight) == 0:
         return _no_band()
-    shape = tuple(hierarchy.shapes[0])
-    diag = hierarchy.level_diag(0).ravel()
-    below, above = (padded_flat(c, shape) for c in (partial.below, partial.above))
-    cells = np.unique(np.concatenate([below, above]))
-    cells = cells[diag[cells] != 0]
-    strides = np.array([shape[1] * shape[2], shape[2], 1])
-    steps = np.concatenate([strides, -strides])
-    near = cells[:, None] + steps[None, :]
-    coords = np.stack(np.unravel_index(near, shape), axis=-1)
-    real = np.array([True, True, shape[2] > 1])
-    ghost = np.any(real & ((coords == 0) | (coords == np.array(shape) - 1)), axis=-1)
-    weight = ((diag[near] != 0) | ghost).astype(np.float32)
-    weight[:, ~np.concatenate([real, real])] = 0.0
-    for lo, hi, w in ((below, above, partial.weight), (above, below, partial.weight)):
-        row = np.searchsorted(cells, lo)
-        found = (row < len(cells)) & (cells[np.minimum(row, len(cells) - 1)] == lo)
-        column = np.argmax(steps[None, :] == (hi - lo)[:, None], axis=1)
-        weight[row[found], column[found]] = w[found]
-    parity = np.sum(np.stack(np.unravel_index(cells, shape), axis=-1), axis=1) % 2
-    inverse = (1.0 / weight.sum(axis=1)).astype(np.float32)
-    return cells.astype(np.int64), near.astype(np.int64), weight, inverse, parity.astype(np.int64)
+    shape = hierarchy.shapes[0]
+    below, above = (padded_flat(c, tuple(shape)) for c in (partial.below, partial.above))
+    weight = np.asarray(partial.weight, dtype=np.float32)
+    return _band_rows(hierarchy.level_diag(0).ravel(), shape, below, above, weight)
+
+
+@numba.njit(cache=True, nogil=True)
+def _band_rows(diag, shape, below, above, fraction):
+    """``band_rows`` from the flat padded cells beside each partial face."""
+    row = np.full(diag.size, -1, np.int64)
+    cells = np.empty(2 * below.size, np.int64)
+    n = 0
+    for f in range(below.size):
+        for c in (below[f], above[f]):
+            if diag[c] != 0.0 and row[c] < 0:
+                row[c], cells[n] = n, c
+                n += 1
+    cells = cells[:n]
+    three_d = shape[2] > 1
+    steps = np.array([shape[1] * shape[2], shape[2], 1, -shape[1] * shape[2], -shape[2], -1])
+    near = np.empty((n, 6), np.int64)
+    weight = np.zeros((n, 6), np.float32)
+    parity = np.empty(n, np.int64)
+    for r in range(n):
+        c = cells[r]
+        i, j, k = c // steps[0], (c // shape[2]) % shape[1], c % shape[2]
+        parity[r] = (i + j + k) % 2
+        for m in range(6):
+            near[r, m] = c + steps[m]
+            if m % 3 == 2 and not three_d:
+                continue  # a 2D grid's z "neighbours" are its y ones
+            a, b, d = (i, j, k)
+            if m % 3 == 0:
+                a += 1 if m < 3 else -1
+            elif m % 3 == 1:
+                b += 1 if m < 3 else -1
+            else:
+                d += 1 if m < 3 else -1
+            ghost = a == 0 or a == shape[0] - 1 or b == 0 or b == shape[1] - 1
+            ghost = ghost or (three_d and (d == 0 or d == shape[2] - 1))
+            weight[r, m] = 1.0 if ghost or diag[near[r, m]] != 0.0 else 0.0
+    for f in range(below.size):
+        for this, other in ((below[f], above[f]), (above[f], below[f])):
+            r = row[this]
+            if r < 0:
+                continue
+            for m in range(6):
+                if steps[m] == other - this:
+                    weight[r, m] = fraction[f]
+    inverse = np.empty(n, np.float32)
+    for r in range(n):
+        inverse[r] = 1.0 / weight[r].sum()
+    return cells, near, weight, inverse, parity
 
 
 @per_thread_cache(maxsize=4)
