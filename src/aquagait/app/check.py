@@ -21,8 +21,10 @@ Thin links: ``link_thickness`` (the largest inscribed ball, from the baked
 signed distance) underestimates by up to about one sample spacing ``s``
 (``h / 4``, finer where a link is under three samples thick:
 ``resolving_shape``); a link measured below ``2 h - s`` is thinner than about
-two cells and gets a warning: its cell centres fall in and out of it as it
-moves, so the fluid sees it flicker in and out of the solid.
+two cells and gets a warning: the fluid sees it only through partly open
+faces (``aquagait.body.subcell``; on the staircase its cell centres fall in
+and out of it as it moves). The table says how much of each link's volume
+the sub-cell faces see.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature
 from aquagait.body.geometry import link_volumes
 from aquagait.body.shape import BodyShape, body_shape, link_thickness
+from aquagait.body.subcell import voxelize_subcell
 from aquagait.body.voxelize import Voxels, voxelize
 from aquagait.control.pd import gains
 from aquagait.creatures import Creature
@@ -131,16 +134,18 @@ def run_check(setup: CheckSetup) -> CheckReport:
     ``depth`` [m] (2D), ``mass`` [kg], ``body_length`` [m], ``links`` (per
     link: ``name``, ``mass`` [kg], ``volume`` [m^3], ``density`` [kg/m^3],
     ``size`` (3,) [m], ``thickness`` [m], ``thickness_cells``,
-    ``solid_cells``, ``voxel_fraction``: the volume of its solid cells over
-    its volume), ``thinnest``, ``root``, ``dofs``, ``gait``, ``grid``,
+    ``solid_cells``, ``voxel_fraction``: the volume of its staircase cells over
+    its volume, ``seen_fraction``: the volume the sub-cell faces see over its
+    volume), ``thinnest``, ``root``, ``dofs``, ``gait``, ``grid``,
     ``clearance``, ``energy_bound`` [J], ``pd``, ``notes`` and ``warnings``.
     """
     creature, grid = setup.creature, setup.grid
     model = creature.model
     link_pos, link_rot = setup.scene.dynamics.link_poses(model.qpos0)
-    voxels = voxelize(setup.scene.shape, grid, link_pos, link_rot)  # what the fluid sees
+    voxels = voxelize(setup.scene.shape, grid, link_pos, link_rot)  # the staircase's cells
+    fractions = voxelize_subcell(setup.scene.shape, grid, link_pos, link_rot)  # what the fluid sees
     shape = resolving_shape(model, setup.scene.shape)
-    links = _links(creature, shape, voxels)
+    links = _links(creature, shape, voxels, fractions)
     numbers = {
         "creature": creature.name,
         "description": creature.description,
@@ -195,12 +200,14 @@ def resolving_shape(model, shape: BodyShape) -> BodyShape:
         return shape
 
 
-def _links(creature: Creature, shape: BodyShape, voxels: Voxels) -> list[dict]:
-    """Per link: mass, volume, density, box size, thickness, solid cells and what they hold."""
+def _links(creature: Creature, shape: BodyShape, voxels: Voxels, fractions: Voxels) -> list[dict]:
+    """Per link: mass, volume, density, box size, thickness, solid cells and what they hold,
+    and the share of its volume the fluid sees through the sub-cell faces."""
     model, h = creature.model, shape.cell_size
     volume = link_volumes(model)
     thickness = link_thickness(shape)
     cell_volume = h**model.dim * (model.depth or 1.0)
+    seen = _seen_volumes(fractions, len(model.links)) * cell_volume
     rows = []
     for k, name in enumerate(model.links):
         cells = int(np.count_nonzero(voxels.owner == k))
@@ -216,8 +223,22 @@ def _links(creature: Creature, shape: BodyShape, voxels: Voxels) -> list[dict]:
             "thickness_cells": float(thickness[k] / h),
             "solid_cells": cells,
             "voxel_fraction": cells * cell_volume / v if v > 0 else None,
+            "seen_fraction": float(seen[k]) / v if v > 0 else None,
         })  # fmt: skip
     return rows
+
+
+def _seen_volumes(fractions: Voxels, nlinks: int) -> np.ndarray:
+    """Each link's volume in cells as the sub-cell faces normal to x see it: its
+    shares of the coupled faces, plus the faces between two cells with no water
+    that it owns (the lower cell's owner)."""
+    seen = np.zeros(nlinks)
+    x = fractions.face_axis == 0
+    np.add.at(seen, fractions.face_link[x], fractions.face_share[x])
+    solid, owner = fractions.solid, fractions.owner
+    inside = solid[:-1] & solid[1:]
+    np.add.at(seen, owner[:-1][inside], 1.0)
+    return seen
 
 
 def _thinnest(links: list[dict]) -> dict | None:
@@ -318,11 +339,13 @@ def _thin_warning(row: dict, shape: BodyShape, k: int, grid: dict) -> str:
     finer = t / THIN_CELLS
     # thickness is sampled in float32: round a hair down before ceil (128.000003 -> 128)
     cells = "x".join(str(math.ceil(n * h / finer * (1 - 1e-6))) for n in grid["resolution"])
+    seen = row["seen_fraction"]
+    sees = f"{seen:.0%} of its volume" if seen is not None else "it"
     return (
-        f"link {row['name']!r} is {measured}: thinner than about two cells, it will flicker in "
-        f"and out of the solid as it moves ({row['solid_cells']} solid cells at the reference "
-        f"pose); cells of {mm(finer)} or less keep it two cells thick ({cells} cells for the "
-        "same grid extent)"
+        f"link {row['name']!r} is {measured}: thinner than about two cells, the fluid sees it "
+        f"only through partly open faces ({sees} at the reference pose; {row['solid_cells']} "
+        f"cells on a staircase); cells of {mm(finer)} or less keep it two cells thick "
+        f"({cells} cells for the same grid extent)"
     )
 
 

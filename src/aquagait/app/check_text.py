@@ -46,7 +46,7 @@ def _link_table(n: dict) -> str:
     h = n["grid"]["cell_size"]
     header = ("link", "mass [kg]", "volume [m^3]", "density [kg/m^3]", "size [mm]",
               "thickness [mm]", f"[cells of {h * 1000:g} mm]", "solid cells",
-              "cells/volume")  # fmt: skip
+              "cells/volume", "fluid sees")  # fmt: skip
     rows = [header]
     for r in n["links"]:
         rows.append((
@@ -54,9 +54,11 @@ def _link_table(n: dict) -> str:
             " x ".join(f"{side * 1000:.3g}" for side in r["size"]),
             f"{r['thickness'] * 1000:.3g}", f"{r['thickness_cells']:.2f}",
             str(r["solid_cells"]), _maybe(r["voxel_fraction"], ".0%"),
+            _maybe(r.get("seen_fraction"), ".0%"),
         ))  # fmt: skip
-    lines = ["links (volume from the geoms' shapes; density = mass / volume; solid cells at "
-             "the reference pose on the default grid)", _table(rows)]  # fmt: skip
+    lines = ["links (volume from the geoms' shapes; density = mass / volume; solid cells: the "
+             "staircase's at the reference pose on the default grid; fluid sees: the share of "
+             "the volume the sub-cell faces see)", _table(rows)]  # fmt: skip
     t = n["thinnest"]
     if t:
         lines.append(f"thinnest link: {t['link']}, {t['thickness'] * 1000:.3g} mm = "

@@ -430,8 +430,9 @@ def link_thickness(shape: BodyShape) -> np.ndarray:
     accurate to about one sample spacing (``shape.spacing``); a plate of
     thickness t gives t, a cylinder of radius r gives 2r (2D) or the smaller of
     2r and its length. A link without geoms gives 0. This is what decides
-    whether a part survives voxelization on cells of size h: fewer than
-    about two cells across, and it flickers in and out of the solid.
+    whether cells of size h resolve a part: fewer than about two cells
+    across, and the fluid sees it only through partly open faces (on the
+    staircase, it flickers in and out of the solid).
     """
     out = np.zeros(shape.nlinks)
     for k in range(shape.nlinks):

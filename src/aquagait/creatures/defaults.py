@@ -173,7 +173,8 @@ def cell_size(model: Model) -> tuple[float, str]:
     h = round_up(finest)
     return h, (
         f"cell size {_mm(h)} (at most {FINEST[model.dim]} cells per body length) leaves {thin} "
-        f"{thickness / h:.2g} cells thick: under two cells, it may flicker in and out of the solid"
+        f"{thickness / h:.2g} cells thick: under two cells, the fluid sees it only through partly "
+        "open faces"
     )
 
 
