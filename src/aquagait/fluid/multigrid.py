@@ -124,11 +124,21 @@ def _place_open_boundary(diag: np.ndarray, fine_shape: tuple[int, ...], level: i
 
 def _coarsen(solid: np.ndarray) -> np.ndarray:
     """A coarse cell is solid only when all of its (existing) children are."""
-    fluid = ~solid
-    padded = np.zeros(tuple(n + n % 2 for n in solid.shape), dtype=np.bool_)
-    padded[tuple(slice(0, n) for n in solid.shape)] = fluid
-    blocks = padded.reshape(sum(((n // 2, 2) for n in padded.shape), ()))
-    return ~blocks.any(axis=tuple(range(1, 2 * solid.ndim, 2)))
+    coarse = np.ones(tuple((n + 1) // 2 for n in solid.shape), dtype=np.bool_)
+    as_3d = (1,) * (3 - solid.ndim)
+    _clear_fluid_parents_(solid.reshape(solid.shape + as_3d), coarse.reshape(coarse.shape + as_3d))
+    return coarse
+
+
+@numba.njit(cache=True, nogil=True)
+def _clear_fluid_parents_(solid, coarse):
+    """``coarse`` (all True on entry) becomes False where any child is fluid."""
+    nx, ny, nz = solid.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if not solid[i, j, k]:
+                    coarse[i // 2, j // 2, k // 2] = False
 
 
 @numba.njit(cache=True, nogil=True)
