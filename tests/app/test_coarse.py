@@ -50,3 +50,5 @@ def test_the_optimize_command_searches_coarse_and_swims_the_best_on_the_target_g
     config = json.loads((out / "config.json").read_text())
     assert config["resolution"] == [64, 32]  # the best gait swims on the target grid
     assert config["optimization"]["resolution"] == [32, 16]
+    settings = config["optimization"]["fluid_settings"]  # what the samples were ranked in
+    assert settings["boundary"] == "voxelize_subcell" and settings["clearance"] == 4

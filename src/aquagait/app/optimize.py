@@ -127,8 +127,10 @@ class OptimizationSetup:
     def config(self) -> dict:
         """The resolved settings, for ``config.json``."""
         o, s = self.objective, self.settings
+        scene = _scene(o.creature, o.resolution, o.cell_size, o.fluid, o.clearance)[1]
         return dict(
-            creature=self.creature.name, fluid=o.fluid, resolution=o.resolution,
+            creature=self.creature.name, fluid=o.fluid, fluid_settings=scene.fluid.settings(),
+            resolution=o.resolution,
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
             direction=list(o.direction),
             weights=vars(o.weights), energy_bound=self.creature.energy_bound,
