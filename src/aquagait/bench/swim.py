@@ -192,14 +192,13 @@ def compare_advection(repeats: int, out: TextIO) -> list[dict]:
     import numpy as np
 
     from aquagait.fluid.advection import bfecc, bfecc_previous
-    from aquagait.sim import EulerFluid
 
     print(f"{'creature':<10}{'grid':>11}{'':>14}{'previous':>10}{'bfecc':>10}{'ratio':>8}",
           file=out)  # fmt: skip
     rows = []
     for name in PAPER_SECONDS_PER_FRAME:
-        fluids = (EulerFluid(advect=bfecc_previous), EulerFluid(advect=bfecc))
-        old, new = _interleaved_swims(name, fluids, repeats)
+        fluids = {"previous": dict(advect=bfecc_previous), "bfecc": dict(advect=bfecc)}
+        old, new = _interleaved_swims(name, fluids, repeats).values()
         row = dict(creature=name, grid=old["grid"], previous=old, bfecc=new,
                    same_qpos=bool(np.array_equal(old["qpos"], new["qpos"])))  # fmt: skip
         rows.append(row)
@@ -223,16 +222,13 @@ def compare_boundary(repeats: int, out: TextIO) -> list[dict]:
     """
     from aquagait.body.subcell import voxelize_subcell
     from aquagait.body.voxelize import voxelize
-    from aquagait.sim import EulerFluid
 
     print(f"{'creature':<10}{'grid':>11}{'':>14}{'staircase':>10}{'subcell':>10}{'cost':>8}",
           file=out)  # fmt: skip
     rows = []
     for name in PAPER_SECONDS_PER_FRAME:
-        fluids = [
-            EulerFluid(boundary=b, solve=_CountingSolve()) for b in (voxelize, voxelize_subcell)
-        ]
-        old, new = _interleaved_swims(name, fluids, repeats)
+        fluids = {"staircase": dict(boundary=voxelize), "subcell": dict(boundary=voxelize_subcell)}
+        old, new = _interleaved_swims(name, fluids, repeats).values()
         rows.append(dict(creature=name, grid=old["grid"], staircase=old, subcell=new))
         for label, key in (("voxelize ms", "voxelize"), ("solve ms", "solve"),
                            ("step ms", "step"), ("CG its", "iterations")):  # fmt: skip
@@ -260,7 +256,6 @@ def compare_start(repeats: int, out: TextIO) -> list[dict]:
     """
     from aquagait.body.voxelize import voxelize
     from aquagait.fluid.advection import bfecc_previous
-    from aquagait.sim import EulerFluid
 
     fluids = {
         "start": dict(advect=bfecc_previous, boundary=voxelize, tolerance=1e-5),
@@ -271,11 +266,9 @@ def compare_start(repeats: int, out: TextIO) -> list[dict]:
           + f"{'speed-up':>18}", file=out)  # fmt: skip
     rows = []
     for name in PAPER_SECONDS_PER_FRAME:
-        swims = _interleaved_swims(
-            name, [EulerFluid(solve=_CountingSolve(), **f) for f in fluids.values()], repeats
-        )
-        figures = dict(zip(fluids, swims, strict=True))
-        rows.append(dict(creature=name, grid=swims[0]["grid"], **figures))
+        figures = _interleaved_swims(name, fluids, repeats)
+        grid = figures["start"]["grid"]
+        rows.append(dict(creature=name, grid=grid, **figures))
         for label, key in (("advect ms", "advect"), ("solve ms", "solve"),
                            ("step ms", "step"), ("CG its", "iterations")):  # fmt: skip
             values = [figures[k][key] for k in fluids]
@@ -284,7 +277,7 @@ def compare_start(repeats: int, out: TextIO) -> list[dict]:
                 if key == "iterations"
                 else "  ".join(f"{values[0] / v:.2f}x" for v in values[1:])
             )
-            print(f"{name:<10}{swims[0]['grid']:>11}{label:>14}"
+            print(f"{name:<10}{grid:>11}{label:>14}"
                   + "".join(f"{v:>11.2f}" for v in values) + f"{faster:>18}", file=out)  # fmt: skip
         out.flush()
     return rows
@@ -304,43 +297,48 @@ class _CountingSolve:
         return result
 
 
-def _interleaved_swims(name: str, fluids, repeats: int) -> list[dict]:
-    """Swim ``name`` once per fluid model, a frame of each in turn.
+def _interleaved_swims(name: str, fluids: dict[str, dict], repeats: int) -> dict[str, dict]:
+    """Swim ``name`` once per fluid, a frame of each in turn.
 
     Taking turns spreads the load of a shared machine over all of them alike.
-    Returns, per fluid: ms per step (voxelize, advect, coupled solve, whole
-    step) over the timed frames, CG iterations per step where the fluid's
-    solver counts them, and the final q.
+
+    Args:
+        name: a library creature.
+        fluids: ``EulerFluid`` settings by column name (its solver is a
+            counting ``pcg``).
+        repeats: frames timed.
+    Returns:
+        per column: ms per step (voxelize, advect, coupled solve, whole step)
+        over the timed frames, CG iterations per step, the grid and the final q.
     """
     import aquagait as ag
-    from aquagait.sim import advance
+    from aquagait.sim import EulerFluid, advance
 
     creature = ag.creatures.get(name)
-    swims = []
-    for fluid in fluids:
+    swims = {}
+    for column, settings in fluids.items():
+        fluid = EulerFluid(solve=_CountingSolve(), **settings)
         scene = ag.make_scene(creature, fluid=fluid)
         policy, state = _warmed_up(scene, creature)
-        counted = getattr(fluid.solve, "iterations", None)
-        swims.append(dict(scene=scene, policy=policy, state=state, totals=defaultdict(float),
-                          solve=fluid.solve, counted=counted))  # fmt: skip
+        swims[column] = dict(scene=scene, policy=policy, state=state, totals=defaultdict(float),
+                             solve=fluid.solve, warm=fluid.solve.iterations)  # fmt: skip
     for _ in range(repeats):
-        for swim in swims:
+        for swim in swims.values():
             state, start = swim["state"], time.perf_counter()
             with _timed_phases(swim["totals"]):
                 swim["state"] = advance(swim["scene"], state, swim["policy"], state.time + 1 / 30)
             swim["totals"]["step"] += time.perf_counter() - start
             swim["totals"]["steps"] += swim["state"].steps - state.steps
-    return [
-        dict(
+    figures = {}
+    for column, swim in swims.items():
+        totals, steps = swim["totals"], swim["totals"]["steps"]
+        figures[column] = dict(
             grid=_grid(creature),
-            qpos=s["state"].qpos,
-            voxelize=1e3 * s["totals"]["voxelize"] / s["totals"]["steps"],
-            advect=1e3 * s["totals"]["advect"] / s["totals"]["steps"],
-            solve=1e3 * s["totals"]["coupled solve"] / s["totals"]["steps"],
-            step=1e3 * s["totals"]["step"] / s["totals"]["steps"],
-            iterations=(s["solve"].iterations - s["counted"]) / s["totals"]["steps"]
-            if s["counted"] is not None
-            else float("nan"),
-        )  # fmt: skip
-        for s in swims
-    ]
+            qpos=swim["state"].qpos,
+            voxelize=1e3 * totals["voxelize"] / steps,
+            advect=1e3 * totals["advect"] / steps,
+            solve=1e3 * totals["coupled solve"] / steps,
+            step=1e3 * totals["step"] / steps,
+            iterations=(swim["solve"].iterations - swim["warm"]) / steps,
+        )
+    return figures
