@@ -65,7 +65,7 @@ from functools import cached_property
 
 import numpy as np
 
-from aquagait.body.voxelize import Voxels
+from aquagait.body.voxelize import Voxels, marked
 from aquagait.fluid.operators import net_outflow
 from aquagait.fluid.pcg import LowRank, PartialFaces, PressureSystem, pcg, pressure_system
 from aquagait.fluid.projection import (
@@ -146,15 +146,11 @@ def coupled_rows(voxels: Voxels, jacobians: np.ndarray, area: float):
 def partial_faces(voxels: Voxels) -> PartialFaces:
     """The coupled faces with water on both sides (or water and the open border),
     which the Laplacian weights by their water fraction (module docstring)."""
-    shape = np.array(voxels.solid.shape)
     once = voxels.first_entries()
-    axis, above, weight = voxels.face_axis[once], voxels.face_index[once], voxels.face_weight[once]
-    below = above - np.eye(len(shape), dtype=np.int64)[axis]
-    both = np.ones(len(once), bool)
-    for cell in (below, above):
-        inside = np.all((cell >= 0) & (cell < shape), axis=1)
-        both[inside] &= ~voxels.solid[tuple(cell[inside].T)]
-    return PartialFaces(below[both], above[both], weight[both])
+    below, above = (cells[once] for cells in voxels.face_cells())
+    water = ~voxels.solid  # the open border counts as water
+    both = marked(water, below, outside=True) & marked(water, above, outside=True)
+    return PartialFaces(below[both], above[both], voxels.face_weight[once][both])
 
 
 def coupled_system(
@@ -327,13 +323,9 @@ def _coupled_values(velocity: Velocity, voxels: Voxels, chosen: np.ndarray, axis
 
 def _touches_owned(voxels: Voxels) -> np.ndarray:
     """Whether each coupled face has a cell the body owns on either side."""
-    shape = np.array(voxels.owner.shape)
-    below = voxels.face_index - np.eye(len(shape), dtype=np.int64)[voxels.face_axis]
-    touches = np.zeros(voxels.face_count, bool)
-    for cell in (below, voxels.face_index):
-        inside = np.all((cell >= 0) & (cell < shape), axis=1)
-        touches[inside] |= voxels.owner[tuple(cell[inside].T)] >= 0
-    return touches
+    owned = voxels.owner >= 0
+    below, above = voxels.face_cells()
+    return marked(owned, below, outside=False) | marked(owned, above, outside=False)
 
 
 def _solid_box(owner: np.ndarray) -> tuple[slice, ...] | None:

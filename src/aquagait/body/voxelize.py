@@ -99,17 +99,29 @@ class Voxels:
             points from the face's solid part into that cell (+1: the cell
             above the face, ``index``; -1: the cell below, ``index - e_a``).
         """
-        shape = np.array(self.solid.shape)
-        step = np.eye(len(shape), dtype=np.int64)[self.face_axis]
+        water = ~self.solid
         faces, cells, signs = [], [], []
-        for sign, cell in ((-1.0, self.face_index - step), (1.0, self.face_index)):
-            inside = np.all((cell >= 0) & (cell < shape), axis=1)
-            keep = np.flatnonzero(inside)
-            keep = keep[~self.solid[tuple(cell[keep].T)]]
+        for sign, cell in zip((-1.0, 1.0), self.face_cells(), strict=True):
+            keep = np.flatnonzero(marked(water, cell, outside=False))
             faces.append(keep)
             cells.append(cell[keep])
             signs.append(np.full(len(keep), sign))
         return np.concatenate(faces), np.concatenate(cells), np.concatenate(signs)
+
+    def face_cells(self) -> tuple[np.ndarray, np.ndarray]:
+        """The cells below (``index - e_a``) and above (``index``) every coupled face,
+        (m, dim) each; either may lie outside the grid (the open border)."""
+        step = np.eye(self.solid.ndim, dtype=np.int64)[self.face_axis]
+        return self.face_index - step, self.face_index
+
+
+def marked(mask: np.ndarray, cells: np.ndarray, outside: bool) -> np.ndarray:
+    """Whether each of ``cells`` (n, dim) is True in ``mask``; a cell outside the grid
+    counts as ``outside``."""
+    inside = np.all((cells >= 0) & (cells < mask.shape), axis=1)
+    out = np.full(len(cells), outside)
+    out[inside] = mask[tuple(cells[inside].T)]
+    return out
 
 
 def voxelize(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
