@@ -31,7 +31,7 @@ from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
 from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
-from aquagait.sim import EulerFluid, Scene, init_state, make_scene, rollout
+from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
 
 DEFAULT_CYCLES = 2.0
 """Gait cycles simulated per sample (paper §4)."""
@@ -83,9 +83,14 @@ class SwimObjective:
 @functools.lru_cache(maxsize=4)
 def _scene(name: str, resolution, cell_size, fluid: str, clearance=None) -> tuple[Creature, Scene]:
     creature = creatures.resolve(name)
+    return creature, make_scene(creature, resolution, cell_size, fluid=_fluid(fluid, clearance))
+
+
+def _fluid(fluid: str, clearance: float | None) -> FluidModel:
+    """The fluid model an objective swims in: by name, the Euler fluid with its clearance."""
     if fluid == "euler" and clearance is not None:
-        fluid = EulerFluid(clearance=clearance)
-    return creature, make_scene(creature, resolution, cell_size, fluid=fluid)
+        return EulerFluid(clearance=clearance)
+    return fluid_model(fluid)
 
 
 @dataclass(frozen=True)
@@ -127,9 +132,9 @@ class OptimizationSetup:
     def config(self) -> dict:
         """The resolved settings, for ``config.json``."""
         o, s = self.objective, self.settings
-        scene = _scene(o.creature, o.resolution, o.cell_size, o.fluid, o.clearance)[1]
         return dict(
-            creature=self.creature.name, fluid=o.fluid, fluid_settings=scene.fluid.settings(),
+            creature=self.creature.name, fluid=o.fluid,
+            fluid_settings=_fluid(o.fluid, o.clearance).settings(),
             resolution=o.resolution,
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
             direction=list(o.direction),
