@@ -36,7 +36,7 @@ ADAPTERS = {
     "dask": {"optimize/"},
 }
 PHYSICS = {"grid", "fluid", "body", "coupling", "sim"}
-ONLY_FROM = {"viz": {"app"}}  # pictures are drawn by the jobs users run, nowhere else
+ONLY_FROM = {"viz": {"app", "bench"}}  # pictures: the jobs users run, and their benchmarks
 
 
 def _modules():

@@ -7,7 +7,7 @@ import os
 import sys
 from typing import TextIO
 
-BENCHMARKS = ("fluid", "swim", "optimize")
+BENCHMARKS = ("fluid", "swim", "optimize", "render")
 
 
 def run_benchmark(
@@ -48,7 +48,7 @@ def run_benchmark(
         raise ValueError(f"--profile and --compare-* are for 'swim', not {what!r}")
     if creature is not None and what != "optimize":
         raise ValueError(f"--creature is for 'optimize', not {what!r}")
-    from aquagait.bench import fluid, optimize, swim
+    from aquagait.bench import fluid, optimize, render, swim
 
     if what != "optimize":  # the optimize benchmark measures two worker processes
         _pin_to_one_core(out)
@@ -57,7 +57,8 @@ def run_benchmark(
                 for row in getattr(swim, name)(repeats, out)]  # fmt: skip
     if creature is not None:
         return optimize.run(repeats=repeats, out=out, creature=creature)
-    return {"fluid": fluid, "swim": swim, "optimize": optimize}[what].run(repeats=repeats, out=out)
+    modules = {"fluid": fluid, "swim": swim, "optimize": optimize, "render": render}
+    return modules[what].run(repeats=repeats, out=out)
 
 
 def _pin_to_one_core(out: TextIO) -> None:

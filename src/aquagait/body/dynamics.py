@@ -74,7 +74,8 @@ class CompiledFacts:
     Per geom (ng): ``geom_names``, ``geom_kind`` ('box', 'mesh', ...),
     ``geom_link``, ``geom_size`` (ng, 3), ``geom_pos`` (ng, 3), ``geom_rot``
     (ng, 3, 3) world frames, ``geom_vertices`` (list of (nv_i, 3) world mesh
-    vertices or None), ``geom_box`` (ng, 2, 3) world axis-aligned bounds [m].
+    vertices or None), ``geom_box`` (ng, 2, 3) world axis-aligned bounds [m],
+    ``geom_rgba`` (ng, 4) colour in [0, 1] (its material's where the geom sets none).
     ``numeric``: the MJCF ``<custom><numeric>`` entries; ``qpos0`` (nq,); ``nv``.
     """
 
@@ -100,6 +101,7 @@ class CompiledFacts:
     geom_rot: np.ndarray
     geom_vertices: tuple
     geom_box: np.ndarray
+    geom_rgba: np.ndarray
     numeric: dict
     qpos0: np.ndarray
     nv: int
@@ -155,10 +157,21 @@ def describe(mj) -> CompiledFacts:
         geom_rot=rot.copy(),
         geom_vertices=tuple(vertices),
         geom_box=np.stack([world_centre - world_half, world_centre + world_half], axis=1),
+        geom_rgba=_geom_rgba(mj),
         numeric=numeric,
         qpos0=mj.qpos0.copy(),
         nv=mj.nv,
     )
+
+
+def _geom_rgba(mj) -> np.ndarray:
+    """Each geom's colour (ng, 4): its own ``rgba``, or its material's where it has one
+    and left ``rgba`` at MuJoCo's default grey (as MuJoCo's own renderer does)."""
+    rgba = mj.geom_rgba.astype(float)
+    default = np.all(rgba == [0.5, 0.5, 0.5, 1.0], axis=1)
+    material = (mj.geom_matid >= 0) & default
+    rgba[material] = mj.mat_rgba[mj.geom_matid[material]]
+    return rgba
 
 
 def mesh_faces(mj) -> tuple:
