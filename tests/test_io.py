@@ -25,7 +25,6 @@ def random_trajectory(model, frames=5, plane=(6, 4), seed=0):
         origin=rng.normal(size=(frames, 2)),
         velocity=rng.normal(size=(frames, 2, *plane)).astype(np.float32),
         solid=rng.random((frames, *plane)) < 0.3,
-        plane_z=0.02,
     )
     per_dof = {k: rng.normal(size=(frames, model.nv)) for k in ("qvel", "torque", "energy")}
     qpos = np.tile(model.qpos0, (frames, 1)) + 0.01 * rng.normal(size=(frames, model.nq))
@@ -43,7 +42,7 @@ def assert_same(a: Trajectory, b: Trajectory):
             x, y = getattr(a.fluid, name), getattr(b.fluid, name)
             np.testing.assert_array_equal(x, y)
             assert x.dtype == y.dtype
-        assert (a.fluid.cell_size, a.fluid.plane_z) == (b.fluid.cell_size, b.fluid.plane_z)
+        assert a.fluid.cell_size == b.fluid.cell_size
 
 
 # --- run directories ---------------------------------------------------------------

@@ -83,7 +83,7 @@ def profile(repeats: int, out: TextIO, creatures=PROFILED) -> list[dict]:
     """
     import aquagait as ag
     from aquagait.sim import advance
-    from aquagait.sim.frames import fluid_frames
+    from aquagait.sim.frames import fluid_frame
 
     rows = []
     for name in creatures:
@@ -98,7 +98,7 @@ def profile(repeats: int, out: TextIO, creatures=PROFILED) -> list[dict]:
             wall += time.perf_counter() - start
             steps += state.steps - before
             start = time.perf_counter()
-            fluid_frames(scene, [state])
+            fluid_frame(scene, state)
             totals["record frame"] += time.perf_counter() - start
         totals["other"] = wall - sum(v for k, v in totals.items() if k != "record frame")
         ms = {phase: 1e3 * seconds / steps for phase, seconds in totals.items()}

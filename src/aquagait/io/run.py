@@ -15,8 +15,11 @@ strict JSON: an undefined number (``nan``, ``inf``) is written as ``null``.
 ``energy`` (F, nv), scalars ``dt``, ``fps`` and ``format``; when the model is
 given, the root link's world pose ``root_position`` (F, 3) [m] and
 ``root_rotation`` (F, 3, 3); when the trajectory carries fluid frames,
-``fluid_cell_size``, ``fluid_origin`` (F, 2), ``fluid_velocity``
-(F, 2, nx, ny), ``fluid_solid`` (F, nx, ny) and ``fluid_plane_z``.
+``fluid_cell_size``, ``fluid_origin`` (F, dim), ``fluid_velocity``
+(F, dim, *shape) and ``fluid_solid`` (F, *shape) (``aquagait.sim.FluidFrames``:
+in 3D the whole volume, block-averaged on large grids, in half precision).
+Format 1 (before 3D pictures) kept the mid-plane of a 3D grid and its
+``fluid_plane_z``; such a file still loads, its fluid a 2D plane.
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ from aquagait.metrics import UNITS
 from aquagait.sim import FluidFrames, Trajectory
 
 CONFIG, TRAJECTORY, METRICS = "config.json", "trajectory.npz", "metrics.json"
-FORMAT = 1
+FORMAT = 2
 LIBRARIES = ("aquagait", "numpy", "scipy", "numba", "mujoco")
 _FRAME_ARRAYS = ("time", "qpos", "qvel", "torque", "energy")
 _FLUID_ARRAYS = ("origin", "velocity", "solid")
@@ -126,7 +129,7 @@ def save_trajectory(path, trajectory: Trajectory, model: Model | None = None) ->
     fluid = trajectory.fluid
     if fluid is not None:
         arrays.update({f"fluid_{name}": np.asarray(getattr(fluid, name)) for name in _FLUID_ARRAYS})
-        arrays.update(fluid_cell_size=fluid.cell_size, fluid_plane_z=fluid.plane_z)
+        arrays.update(fluid_cell_size=fluid.cell_size)
     path = Path(path)
     with path.open("wb") as f:  # a file object: numpy would append .npz to other names
         np.savez_compressed(f, **arrays)
@@ -153,7 +156,6 @@ def load_trajectory(path) -> Trajectory:
         if "fluid_velocity" in data.files:
             fluid = FluidFrames(
                 cell_size=float(data["fluid_cell_size"]),
-                plane_z=float(data["fluid_plane_z"]),
                 **{name: data[f"fluid_{name}"] for name in _FLUID_ARRAYS},
             )
         frames = {name: data[name] for name in _FRAME_ARRAYS}

@@ -1,4 +1,16 @@
-"""The fluid as recorded once per frame of a rollout, for pictures and particle traces."""
+"""The fluid as recorded once per frame of a rollout, for pictures and particle traces.
+
+2D keeps the whole grid. 3D keeps the whole volume too (particle traces are
+3D), block-averaged where the grid is large: the smallest ``stride`` whose
+blocks of ``stride^3`` cells leave at most ``MAX_CELLS`` values per
+component, in half precision. So a frame costs at most 3 x 2 x ``MAX_CELLS``
+bytes before compression: a 10 s swim (300 frames) of the fish at 64x32x32
+(65,536 cells, stride 1) holds 118 MB of velocity, the frog at 96x64x48
+(stride 2) 66 MB. Half precision carries 3 significant digits, plenty for
+particles that move a fraction of a cell per frame; what a picture is drawn
+from in memory is what the run directory stores, so a re-rendered run
+draws the same pictures.
+"""
 
 from __future__ import annotations
 
@@ -9,54 +21,85 @@ import numpy as np
 
 from aquagait.body.voxelize import voxelize
 from aquagait.fluid.operators import cell_centered
+from aquagait.grid import Grid
 
 if TYPE_CHECKING:
     from aquagait.sim.scene import Scene, State
+
+MAX_CELLS = 1 << 17
+"""Most values per velocity component a 3D frame keeps (module docstring)."""
 
 
 @dataclass(frozen=True, eq=False)
 class FluidFrames:
     """The fluid as recorded once per frame, for pictures and particle traces.
 
-    Always a plane: the whole grid in 2D, the mid-plane z = const through the
-    grid's centre in 3D (x-y plane, cell-centred values). F frames, a plane of
-    ``nx x ny`` cells.
+    F frames of a lattice of cells (the grid's, or blocks of ``stride`` of
+    them in 3D) whose lower corner moves with the grid.
 
     Attributes:
-        cell_size: h [m].
-        origin: (F, 2) world position of the plane's lower corner per frame
-            (the grid follows the creature) [m].
-        velocity: (F, 2, nx, ny) in-plane velocity at cell centres [m/s].
-        solid: (F, nx, ny) cells inside the body.
-        plane_z: the plane's world z [m] (0 in 2D).
+        cell_size: the lattice spacing [m] (the grid's h times the stride).
+        origin: (F, dim) world position of the lattice's lower corner per
+            frame (the grid follows the creature) [m].
+        velocity: (F, dim, *shape) velocity at the lattice's cell centres
+            [m/s]: float32 in 2D, float16 in 3D (module docstring).
+        solid: (F, *shape) cells (or blocks, most of whose cells are) inside the body.
     """
 
     cell_size: float
     origin: np.ndarray
     velocity: np.ndarray
     solid: np.ndarray
-    plane_z: float = 0.0
+
+    @property
+    def dim(self) -> int:
+        return self.velocity.shape[1]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The lattice's cells per axis."""
+        return self.solid.shape[1:]
 
 
-def fluid_frames(scene: Scene, frames: list[State]) -> FluidFrames:
-    """The fluid plane of every frame: the whole grid in 2D, the mid-plane z in 3D."""
-    origins, velocities, solids = [], [], []
-    for state in frames:
-        grid = state.grid
-        centred = cell_centered(grid, state.velocity)
-        solid = voxelize(scene.shape, grid, *scene.dynamics.link_poses(state.qpos)).solid
-        if grid.dim == 3:
-            k = grid.shape[2] // 2
-            centred, solid = centred[:2, :, :, k], solid[:, :, k]
-        origins.append(grid.origin[:2])
-        velocities.append(centred)
-        solids.append(solid)
-    grid = frames[-1].grid
-    plane_z = grid.origin[2] + (grid.shape[2] // 2 + 0.5) * grid.cell_size if grid.dim == 3 else 0
-    return FluidFrames(
-        cell_size=grid.cell_size,
-        origin=np.array(origins),
-        velocity=np.stack(velocities).astype(np.float32),
-        solid=np.stack(solids),
-        plane_z=float(plane_z),
+def fluid_frame(scene: Scene, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One frame's (origin, velocity, solid) as ``FluidFrames`` keeps it (module docstring)."""
+    grid = state.grid
+    centred = cell_centered(grid, state.velocity)
+    solid = voxelize(scene.shape, grid, *scene.dynamics.link_poses(state.qpos)).solid
+    if grid.dim == 2:
+        return np.asarray(grid.origin, float), centred.astype(np.float32), solid
+    s = stride(grid.shape)
+    return (
+        np.asarray(grid.origin, float),
+        np.stack([_blocks(c, s) for c in centred]).astype(np.float16),
+        _blocks(solid.astype(np.float32), s) > 0.5,
     )
+
+
+def fluid_frames(grid: Grid, frames: list[tuple]) -> FluidFrames:
+    """``FluidFrames`` from the ``fluid_frame`` records of a rollout on ``grid`` (shape, h)."""
+    origin, velocity, solid = (np.stack(column) for column in zip(*frames, strict=True))
+    blocks = 1 if grid.dim == 2 else stride(grid.shape)
+    return FluidFrames(grid.cell_size * blocks, origin, velocity, solid)
+
+
+def stride(shape) -> int:
+    """The smallest block edge that leaves at most ``MAX_CELLS`` blocks of a 3D grid ``shape``."""
+    s = 1
+    while np.prod(-(-np.asarray(shape) // s)) > MAX_CELLS:
+        s += 1
+    return s
+
+
+def _blocks(field: np.ndarray, s: int) -> np.ndarray:
+    """Means over blocks of ``s^3`` cells (a partial block at the far border: of what it holds)."""
+    if s == 1:
+        return field
+    out = field
+    for axis in range(3):
+        n = out.shape[axis]
+        edges = np.arange(0, n, s)
+        out = np.add.reduceat(out, edges, axis=axis) / np.diff(np.append(edges, n)).reshape(
+            [-1 if a == axis else 1 for a in range(3)]
+        )
+    return out

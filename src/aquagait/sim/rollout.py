@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from aquagait.sim.frames import FluidFrames, fluid_frames
+from aquagait.sim.frames import FluidFrames, fluid_frame, fluid_frames
 from aquagait.sim.scene import Scene, State
 
 FRAMES_PER_SECOND = 30
@@ -81,12 +81,12 @@ def rollout(
         fps: frames per second recorded (DESIGN.md: 30).
         progress: optional ``progress(frames_done, frames_total)``, called
             after every frame (for progress bars).
-        record_fluid: keep the fluid plane of every frame (for pictures);
+        record_fluid: keep the fluid of every frame (for pictures);
             off when only the body matters, as in optimization.
 
     Returns:
         The trajectory, ``round(seconds * fps) + 1`` frames including the start;
-        in the Euler fluid it carries the fluid plane of every frame (the
+        in the Euler fluid it carries the fluid of every frame (the
         simple fluid has no flow to record).
     Raises:
         aquagait.sim.SimulationError: as ``step``; also when the flow grew so
@@ -98,13 +98,16 @@ def rollout(
         raise ValueError(f"seconds must be >= 0, got {seconds}")
     total = int(round(seconds * fps))
     start = state.time
-    frames = [state]
+    has_flow = record_fluid and state.velocity is not None
+    frames = [_small(state)]  # a frame's fluid is recorded as it comes, not kept whole
+    fluid = [fluid_frame(scene, state)] if has_flow else None
     for k in range(1, total + 1):
         state = advance(scene, state, policy, start + k / fps, dt)
-        frames.append(state)
+        frames.append(_small(state))
+        if has_flow:
+            fluid.append(fluid_frame(scene, state))
         if progress is not None:
             progress(k, total)
-    has_flow = record_fluid and state.velocity is not None
     return Trajectory(
         time=np.array([s.time for s in frames]),
         qpos=np.stack([s.qpos for s in frames]),
@@ -113,8 +116,13 @@ def rollout(
         energy=np.stack([s.energy for s in frames]),
         dt=dt,
         fps=float(fps),
-        fluid=fluid_frames(scene, frames) if has_flow else None,
+        fluid=fluid_frames(state.grid, fluid) if has_flow else None,
     )
+
+
+def _small(state: State) -> State:
+    """The state without its fields: what a trajectory keeps of a frame."""
+    return replace(state, velocity=None, pressure=None)
 
 
 def advance(scene: Scene, state: State, policy, end: float, dt: float | None = None) -> State:

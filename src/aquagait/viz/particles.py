@@ -1,23 +1,29 @@
 """Massless particles carried by the recorded flow, for traces (DESIGN.md §2.7, paper §7).
 
-The flow is a ``FluidFrames``: per frame f, in-plane velocity at the cell
-centres of a plane whose lower corner sits at ``origin[f]`` (the grid follows
+The flow is a ``FluidFrames``: per frame f, velocity at the cell centres of a
+lattice (2D or 3D) whose lower corner sits at ``origin[f]`` (the grid follows
 the creature by whole cells, so the origin changes). Particles live in world
 coordinates, so a moving grid needs no special care: the velocity at a world
 point and time t in [t_f, t_f+1] is
 
     u(x, t) = (1 - s) U_f(x) + s U_f+1(x),    s = (t - t_f) / (t_f+1 - t_f)
 
-with ``U_f(x)`` bilinear between the cell centres of frame f (clamped at the
-plane's edge). Between two frames a particle takes ``substeps`` midpoint (RK2)
-steps. A particle that leaves the plane or ends up inside the body is
-re-seeded where particles are scarcest (blocks of cells below their share),
-and its trace starts afresh.
+with ``U_f(x)`` multilinear between the cell centres of frame f (clamped at
+the lattice's edge). Between two frames a particle takes ``substeps``
+midpoint (RK2) steps. A particle that leaves the lattice or ends up inside
+the body is re-seeded where particles are scarcest (blocks of cells below
+their share), and its trace starts afresh.
+
+In 3D a few thousand particles cannot fill the whole volume densely, so they
+are seeded in a box around the body (``region``) and live a limited number of
+frames (``lifetime``, staggered), after which they are seeded again: the
+particles stay where the body makes a wake.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
+from itertools import product
 
 import numpy as np
 
@@ -26,42 +32,50 @@ from aquagait.sim import FluidFrames
 
 
 def sample(field: np.ndarray, origin, cell_size: float, points: np.ndarray) -> np.ndarray:
-    """Bilinear interpolation of a cell-centred field at world points.
+    """Multilinear interpolation of a cell-centred field at world points.
 
     Args:
-        field: (..., nx, ny) values at cell centres ``origin + (i + 1/2, j + 1/2) h``.
-        origin: (2,) the plane's lower corner [m].
+        field: (..., n_1, ..., n_d) values at cell centres ``origin + (i + 1/2) h``.
+        origin: (d,) the lattice's lower corner [m].
         cell_size: h [m].
-        points: (N, 2) world positions [m]; outside the plane the nearest edge value.
+        points: (N, d) world positions [m]; outside the lattice the nearest edge value.
 
     Returns:
         (..., N) values.
     """
-    shape = np.array(field.shape[-2:])
+    dim = points.shape[1]
+    shape = np.array(field.shape[-dim:])
     x = np.clip((points - origin) / cell_size - 0.5, 0, shape - 1)
-    i0 = np.minimum(x.astype(int), shape - 2)
+    i0 = np.minimum(x.astype(int), np.maximum(shape - 2, 0))
     t = x - i0
-    i, j = i0[:, 0], i0[:, 1]
-    tx, ty = t[:, 0], t[:, 1]
-    return (
-        field[..., i, j] * (1 - tx) * (1 - ty)
-        + field[..., i + 1, j] * tx * (1 - ty)
-        + field[..., i, j + 1] * (1 - tx) * ty
-        + field[..., i + 1, j + 1] * tx * ty
-    )
+    total = 0.0
+    for corner in product((0, 1), repeat=dim):
+        weight = np.prod([t[:, a] if c else 1 - t[:, a] for a, c in enumerate(corner)], axis=0)
+        index = tuple(np.minimum(i0[:, a] + c, shape[a] - 1) for a, c in enumerate(corner))
+        total = total + field[(..., *index)] * weight
+    return total
 
 
 def vorticity(fluid: FluidFrames, frame: int) -> np.ndarray:
-    """Vorticity dv/dx - du/dy of a frame at cell centres, (nx, ny) [1/s]: ``operators.curl``."""
+    """Vorticity of a frame at cell centres [1/s]: ``operators.curl``.
+
+    2D: the scalar dv/dx - du/dy, (nx, ny). 3D: the vector, (3, nx, ny, nz).
+    """
     return curl(fluid.velocity[frame], fluid.cell_size)
 
 
+def vorticity_magnitude(fluid: FluidFrames, frame: int) -> np.ndarray:
+    """|vorticity| of a frame at cell centres, ``fluid.shape`` [1/s]."""
+    omega = vorticity(fluid, frame)
+    return np.abs(omega) if fluid.dim == 2 else np.sqrt((omega**2).sum(axis=0))
+
+
 def inside(fluid: FluidFrames, frame: int, points: np.ndarray) -> np.ndarray:
-    """(N,) True where a world point lies in the plane of ``frame`` and not in a solid cell."""
+    """(N,) True where a world point lies in the lattice of ``frame`` and not in a solid cell."""
     cell = np.floor((points - fluid.origin[frame]) / fluid.cell_size).astype(int)
-    n = np.array(fluid.solid.shape[1:])
+    n = np.array(fluid.shape)
     ok = np.all((cell >= 0) & (cell < n), axis=1)
-    ok[ok] = ~fluid.solid[frame][cell[ok, 0], cell[ok, 1]]
+    ok[ok] = ~fluid.solid[frame][tuple(cell[ok].T)]
     return ok
 
 
@@ -90,57 +104,87 @@ def particle_traces(
     length: int = 15,
     substeps: int = 3,
     seed: int = 0,
+    count: int | None = None,
+    region: np.ndarray | None = None,
+    lifetime: int | None = None,
 ) -> Iterator[np.ndarray]:
     """Particle traces frame by frame.
 
     Args:
         fluid: the recorded flow, F frames.
         time: (F,) frame times [s].
-        per_cell: particles per cell of the plane.
+        per_cell: particles per cell of the lattice (when ``count`` is None).
         length: frames per trace (DESIGN.md §2.7: 15).
         substeps: RK2 steps between two frames.
         seed: seeds the particles' random placement.
+        count: the number of particles, instead of ``per_cell``.
+        region: (F, 2, dim) per frame the [low, high] corners of the box
+            where particles are seeded [m]; None: the whole lattice.
+        lifetime: frames a particle lives before it is seeded again (each
+            particle's first life is cut short at random, so they do not all
+            go at once); None: until it leaves the fluid.
 
     Yields:
-        For each frame, traces (N, length, 2) of world positions [m], oldest
+        For each frame, traces (N, length, dim) of world positions [m], oldest
         first, the current position last; NaN where a trace is younger than
         ``length`` frames.
     """
     rng = np.random.default_rng(seed)
-    n = max(1, round(per_cell * fluid.solid[0].size))
-    traces = np.full((n, length, 2), np.nan)
-    traces[:, -1] = _seed(fluid, 0, n, per_cell, rng, None)
+    n = count if count is not None else max(1, round(per_cell * fluid.solid[0].size))
+    density = n / fluid.solid[0].size if region is None else n / _cells_in(fluid, region[0])
+    traces = np.full((n, length, fluid.dim), np.nan)
+    traces[:, -1] = _seed(fluid, 0, n, density, rng, None, _box(region, 0))
+    age = rng.integers(0, lifetime, n) if lifetime else np.zeros(n, int)
     yield traces.copy()
     for f in range(len(time) - 1):
         moved = advect(fluid, time, f, traces[:, -1], substeps)
         traces = np.roll(traces, -1, axis=1)
         traces[:, -1] = moved
+        age += 1
         lost = ~inside(fluid, f + 1, moved)
+        if lifetime:
+            lost |= age >= lifetime
         if lost.any():
             traces[lost] = np.nan
-            traces[lost, -1] = _seed(fluid, f + 1, int(lost.sum()), per_cell, rng, moved[~lost])
+            box = _box(region, f + 1)
+            traces[lost, -1] = _seed(fluid, f + 1, int(lost.sum()), density, rng, moved[~lost], box)
+            age[lost] = 0
         yield traces.copy()
 
 
-def _seed(fluid: FluidFrames, frame: int, count: int, per_cell: float, rng, others):
-    """``count`` new world points in the fluid of ``frame``, where particles are scarcest."""
-    h, shape = fluid.cell_size, np.array(fluid.solid.shape[1:])
-    block = max(1, int(np.ceil(np.sqrt(4 / per_cell))))  # about 4 particles per block
-    blocks = -(-shape // block)
+def _box(region, frame):
+    return None if region is None else region[frame]
+
+
+def _cells_in(fluid: FluidFrames, box) -> float:
+    return max(1.0, float(np.prod((box[1] - box[0]) / fluid.cell_size)))
+
+
+def _seed(fluid: FluidFrames, frame: int, count: int, per_cell: float, rng, others, box=None):
+    """``count`` new world points in the fluid of ``frame`` (within ``box``), where
+    particles are scarcest."""
+    h, shape, origin = fluid.cell_size, np.array(fluid.shape), fluid.origin[frame]
+    lo, hi = np.zeros(fluid.dim, int), shape
+    if box is not None:  # the lattice's cells the box covers, at least one
+        lo = np.clip(np.floor((box[0] - origin) / h).astype(int), 0, shape - 1)
+        hi = np.clip(np.ceil((box[1] - origin) / h).astype(int), lo + 1, shape)
+    span = hi - lo
+    block = max(1, int(np.ceil((4 / per_cell) ** (1 / fluid.dim))))  # about 4 particles a block
+    blocks = -(-span // block)
     weight = np.ones(blocks)
     if others is not None and len(others):
-        cell = np.floor((others - fluid.origin[frame]) / h).astype(int) // block
-        cell = np.clip(cell, 0, blocks - 1)
+        cell = (np.floor((others - origin) / h).astype(int) - lo) // block
+        within = np.all((cell >= 0) & (cell < blocks), axis=1)
         count_in = np.zeros(blocks)
-        np.add.at(count_in, (cell[:, 0], cell[:, 1]), 1)
-        weight = np.maximum(per_cell * block**2 - count_in, 0) + 1e-3
+        np.add.at(count_in, tuple(cell[within].T), 1)
+        weight = np.maximum(per_cell * block**fluid.dim - count_in, 0) + 1e-3
     chosen = rng.choice(weight.size, size=count, p=(weight / weight.sum()).ravel())
-    corner = np.stack(np.unravel_index(chosen, blocks), axis=1) * block
-    points = fluid.origin[frame] + (corner + rng.random((count, 2)) * block) * h
-    points = np.minimum(points, fluid.origin[frame] + shape * h * (1 - 1e-9))
+    corner = lo + np.stack(np.unravel_index(chosen, blocks), axis=1) * block
+    points = origin + (corner + rng.random((count, fluid.dim)) * block) * h
+    points = np.minimum(points, origin + hi * h * (1 - 1e-9))
     for _ in range(4):  # move those that fell into the body
         bad = ~inside(fluid, frame, points)
         if not bad.any():
             break
-        points[bad] = fluid.origin[frame] + rng.random((int(bad.sum()), 2)) * shape * h
+        points[bad] = origin + (lo + rng.random((int(bad.sum()), fluid.dim)) * span) * h
     return points
