@@ -73,15 +73,33 @@ def _cmd_swim(args) -> int:
 
 def _swim_and_write(setup, out: Path, video: bool, extra_config=None) -> int:
     """Swim a prepared setup, write its run directory and (optionally) its video."""
-    from aquagait.app import run_swim, swim_summary, write_swim
+    from aquagait.app import RenderUnavailable, run_swim, swim_summary, write_swim
     from aquagait.sim import SimulationError
 
     try:
         run = run_swim(setup, progress=ProgressBar("swimming"))
     except SimulationError as err:
         return _fail("swim", err, status=1)
-    write_swim(run, out, video, extra_config, progress=ProgressBar("rendering"))
+    try:
+        write_swim(run, out, video, extra_config, progress=ProgressBar("rendering"))
+    except RenderUnavailable as err:
+        print(f"aquagait: the video is skipped, the run is kept: {err}", file=sys.stderr)
     print(swim_summary(run, out))
+    return 0
+
+
+def _cmd_render(args) -> int:
+    from aquagait.app import RenderUnavailable, SetupError, prepare_render, run_render
+
+    try:
+        setup = prepare_render(args.run_dir, args.format, args.view, args.frames, args.out)
+    except SetupError as err:
+        return _fail("render", err, status=2)
+    try:
+        path = run_render(setup, progress=ProgressBar("rendering"))
+    except RenderUnavailable as err:
+        return _fail("render", err, status=1)
+    print(f"wrote {path}")
     return 0
 
 
@@ -160,7 +178,13 @@ def _cmd_demo(args) -> int:
     (nx, ny), fine = demo.GRID[0], creatures.get(demo.CREATURE).resolution
     print(f"aquagait demo: CMA-ES finds {demo.CREATURE} a gait on a {nx}x{ny} grid, then it "
           f"swims at {fine[0]}x{fine[1]} into {out}/", file=sys.stderr)  # fmt: skip
-    return _optimize_and_swim(setup, out, args, True, default_grid=True, seconds=demo.SWIM_SECONDS)
+    status = _optimize_and_swim(setup, out, args, True, default_grid=True,
+                                seconds=demo.SWIM_SECONDS)  # fmt: skip
+    if status:
+        return status
+    print(f"aquagait demo: the {demo.CREATURE_3D} swims its shipped gait in 3D into "
+          f"{out}/{demo.CREATURE_3D}/", file=sys.stderr)  # fmt: skip
+    return _swim_and_write(demo.prepare_demo_3d(), out / demo.CREATURE_3D, video=True)
 
 
 def _cmd_compare(args) -> int:
@@ -374,6 +398,18 @@ def build_parser() -> argparse.ArgumentParser:
     compare.add_argument("--out", metavar="DIR", help="directory (default: runs/NAME-compare)")
     compare.add_argument("--no-video", action="store_true", help="skip the plot and video")
     compare.set_defaults(run=_cmd_compare)
+
+    render = commands.add_parser(
+        "render", help="draw a run directory's swim again (video, GIF or pictures), no simulation"
+    )
+    render.add_argument("run_dir", metavar="RUN_DIR", help="a directory written by aquagait swim")
+    render.add_argument("--format", choices=("mp4", "gif", "png"), default="mp4",
+                        help="png: the frame, or a contact sheet of six frames")  # fmt: skip
+    render.add_argument("--view", choices=("side", "top", "follow"),
+                        help="3D camera (default follow: behind, beside and above)")  # fmt: skip
+    render.add_argument("--frames", metavar="A:B", help="frames A to B-1 (default all)")
+    render.add_argument("--out", metavar="FILE", help="default RUN_DIR/swim[-VIEW].FORMAT")
+    render.set_defaults(run=_cmd_render)
 
     demo = commands.add_parser(
         "demo", help="optimize eel2d on a coarse grid, then swim and render the result"

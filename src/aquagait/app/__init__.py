@@ -7,8 +7,9 @@
 
 ``swim``, ``optimize`` (CMA-ES and the best gait's swim), ``compare`` (the
 Euler and the simple fluid), ``check`` (a creature's table and its voxels on
-the default grid) and ``demo``. This is the one layer that joins
-simulation, optimizer, files and pictures; the command line only maps flags
+the default grid), ``render`` (a run directory's pictures again) and
+``demo``. This is the one layer that joins simulation, optimizer, files and
+pictures; the command line only maps flags
 to its arguments. A mistake in a setting raises a ``SetupError`` whose
 message says what was wrong and what would be right, before anything runs.
 """
@@ -31,6 +32,13 @@ from aquagait.app.optimize import (
     run_optimization,
     write_optimization,
 )
+from aquagait.app.render import (
+    RenderSetup,
+    RenderSetupError,
+    RenderUnavailable,
+    prepare_render,
+    run_render,
+)
 from aquagait.app.swim import (
     SwimRun,
     SwimSetup,
@@ -48,6 +56,9 @@ __all__ = [
     "CheckSetupError",
     "OptimizationSetup",
     "OptimizationSetupError",
+    "RenderSetup",
+    "RenderSetupError",
+    "RenderUnavailable",
     "SetupError",
     "SwimObjective",
     "SwimRun",
@@ -57,9 +68,11 @@ __all__ = [
     "output_directory",
     "prepare_check",
     "prepare_optimization",
+    "prepare_render",
     "prepare_swim",
     "run_check",
     "run_optimization",
+    "run_render",
     "run_swim",
     "swim_config",
     "swim_summary",

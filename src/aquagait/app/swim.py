@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from aquagait.app.errors import SetupError
+from aquagait.app.render import draw_swim
 from aquagait.app.resolve import creature_key, find_creature
 from aquagait.creatures import Creature
 from aquagait.io.gait import GaitFileError, read_gait, write_gait
@@ -192,18 +193,21 @@ def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progre
     Args:
         run: from ``run_swim``.
         out: the run directory (created if missing).
-        video: also render ``swim.mp4`` (the ``viz`` extra).
+        video: also render ``swim.mp4`` (the ``viz`` extra; 3D also ``render``),
+            after the run's files are written.
         extra_config: entries added to ``config.json`` (e.g. the optimization's settings).
         progress: optional ``progress(frames_done, frames_total)`` while rendering.
+
+    Raises:
+        aquagait.viz.gl.RenderUnavailable: a 3D video and no OpenGL; the run's
+            files are written, the message says what to install.
     """
     creature = run.setup.creature
     config = {**run.config, **(extra_config or {})}
     out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
     write_gait(out / "gait.json", creature, run.setup.params)
     if video:
-        from aquagait.viz import render_swim
-
-        render_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress)
+        draw_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress)
     return out
 
 

@@ -3,18 +3,23 @@
     from aquagait.viz import render_swim
     render_swim(trajectory, creature.model, "runs/eel2d/swim.mp4")
 
-Reads Trajectory only; matplotlib and imageio are imported inside the
-functions that draw, so importing this package needs neither.
+Reads Trajectory only; matplotlib, imageio and moderngl (3D, the ``render``
+extra) are imported inside the functions that draw, so importing this
+package needs none of them.
 """
 
 from aquagait.viz.compare import plot_displacement, render_side_by_side
 from aquagait.viz.convergence import plot_convergence
 from aquagait.viz.particles import particle_traces
-from aquagait.viz.swim import Look, render_swim, swim_frames
+from aquagait.viz.plane import Look
+from aquagait.viz.swim import contact_sheet, render_swim, swim_frames
+from aquagait.viz.volume import Look3D
 from aquagait.viz.voxels import plot_voxels
 
 __all__ = [
     "Look",
+    "Look3D",
+    "contact_sheet",
     "particle_traces",
     "plot_convergence",
     "plot_displacement",

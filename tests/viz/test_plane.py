@@ -1,4 +1,4 @@
-"""The swim video: a few frames of synthetic 2D and 3D-slice flows written and read back."""
+"""2D swim pictures and the video they go to: synthetic flows written and read back."""
 
 import imageio.v2 as imageio
 import numpy as np
@@ -50,11 +50,9 @@ def gliding(name, frames, shape, cell_size, speed):
     return model, Trajectory(time, qpos, zeros, zeros, zeros, dt=1 / 300, fps=30.0, fluid=fluid)
 
 
-@pytest.mark.parametrize(
-    "name,shape,cell_size", [("eel2d", (48, 24), 0.02), ("fish", (32, 16), 0.01)], ids=["2d", "3d"]
-)
-def test_a_video_has_one_picture_per_frame(tmp_path, name, shape, cell_size):
-    model, traj = gliding(name, 3, shape, cell_size, speed=0.1)
+def test_a_video_has_one_picture_per_frame(tmp_path):
+    shape = (48, 24)
+    model, traj = gliding("eel2d", 3, shape, 0.02, speed=0.1)
     path = render_swim(traj, model, tmp_path / "out" / "swim.mp4", pixels_per_cell=4)
     assert path.is_file()
     with imageio.get_reader(path) as video:
