@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from aquagait.body.rotations import quat_conj, quat_exp, quat_log, quat_mul
+from aquagait.body.rotations import quat_conj, quat_exp, quat_from_matrix, quat_log, quat_mul
 
 IDENTITY = np.array([1.0, 0, 0, 0])
 
@@ -79,3 +79,14 @@ def test_rotations_about_one_axis_add_their_angles():
     n = np.array([2.0, -1.0, 0.5]) / np.linalg.norm([2.0, -1.0, 0.5])
     product = quat_mul(quat_exp(0.4 * n), quat_exp(1.1 * n))
     np.testing.assert_allclose(quat_log(product), 1.5 * n, atol=1e-14)
+
+
+def test_quaternions_from_matrices_rotate_as_the_matrices_do():
+    rng = np.random.default_rng(3)
+    vectors = rng.normal(size=(5, 3))
+    quats = np.array([quat_exp(v) for v in vectors])
+    quats *= np.sign(quats[:, :1])
+    mats = np.array([np.stack([rotate(q, e) for e in np.eye(3)], axis=1) for q in quats])
+    np.testing.assert_allclose(quat_from_matrix(mats), quats, atol=1e-12)
+    assert quat_from_matrix(np.eye(3)).tolist() == [1.0, 0.0, 0.0, 0.0]
+

@@ -12,9 +12,9 @@ moderngl = pytest.importorskip("moderngl")
 import aquagait as ag  # noqa: E402
 from aquagait.body.dynamics import Dynamics  # noqa: E402
 from aquagait.body.geometry import geom_points  # noqa: E402
+from aquagait.body.meshes import link_meshes  # noqa: E402
 from aquagait.viz.camera import Camera, project, view_camera  # noqa: E402
 from aquagait.viz.gl import Renderer, RenderUnavailable, egl_context, trace_segments  # noqa: E402
-from aquagait.viz.meshes import link_meshes  # noqa: E402
 
 WIDTH, HEIGHT = 160, 120
 BLACK = (0.0, 0.0, 0.0)  # no lit surface is black: every geom here has a colour

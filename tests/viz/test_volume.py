@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 import aquagait as ag
+from aquagait.body.geometry import body_boxes
 from aquagait.sim import FluidFrames, Trajectory
 from aquagait.viz.camera import project
 from aquagait.viz.gl import RenderUnavailable
-from aquagait.viz.volume import Look3D, _Body, _cameras, _Wake, volume_pictures
+from aquagait.viz.volume import Look3D, _cameras, volume_pictures
 
 H, SHAPE, FRAMES = 0.01, (40, 20, 20), 8
 WIDTH, HEIGHT = 192, 144
@@ -51,10 +52,10 @@ def test_the_fish_is_where_its_projected_box_says_and_moves_frame_to_frame(glidi
     fish, traj = gliding
     bare = Trajectory(traj.time, traj.qpos, traj.qvel, traj.torque, traj.energy, traj.dt, traj.fps)
     drawn = pictures(fish, bare, view="side")
-    cameras = _cameras(_Body(fish, bare), bare, Look3D(view="side", width=WIDTH, height=HEIGHT))
-    body = _Body(fish, bare)
+    cameras = _cameras(fish, bare, Look3D(view="side", width=WIDTH, height=HEIGHT))
+    boxes = body_boxes(fish, bare.qpos)
     for f in (0, FRAMES - 1):
-        low, high = body.bounds(f)
+        low, high = boxes[f]
         corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
                             for z in (low[2], high[2])])  # fmt: skip
         box = project(cameras[f], corners, WIDTH, HEIGHT)
@@ -73,23 +74,10 @@ def test_traces_appear_where_the_water_turns_and_not_in_still_water(gliding):
     body_only = pictures(fish, bare, **look)[-1].astype(int)
     traced = np.abs(with_wake - body_only).sum(-1) > 30
     assert traced.sum() > 50
-    camera = _cameras(_Body(fish, traj), traj, Look3D(width=WIDTH, height=HEIGHT, **look))[-1]
+    camera = _cameras(fish, traj, Look3D(width=WIDTH, height=HEIGHT, **look))[-1]
     centre = project(camera, [SWIRL_AT], WIDTH, HEIGHT)[0]
     pixels_per_metre = np.linalg.norm(project(camera, [SWIRL_AT + [0.01, 0, 0]], WIDTH, HEIGHT)[0]
                                       - centre) / 0.01  # fmt: skip
     rows, cols = np.nonzero(traced)
     distance = np.hypot(cols + 0.5 - centre[0], rows + 0.5 - centre[1]) / pixels_per_metre
     assert np.percentile(distance, 95) < 3 * CORE  # the blob's vorticity: within ~2.5 cores
-
-
-def test_a_trace_is_as_opaque_as_the_vorticity_where_it_is(gliding):
-    fish, traj = gliding
-    look = Look3D(particles=4000, lifetime=100)
-    wake = _Wake(traj, _Body(fish, traj), look)
-    traces, alpha = wake.at(3)
-    now = traces[:, -1]
-    r = np.hypot(*(now[:, :2] - SWIRL_AT[:2]).T)
-    near = (r < CORE) & (np.abs(now[:, 2]) < CORE)
-    far = r > 4 * CORE
-    assert near.sum() > 5 and far.sum() > 100
-    assert alpha[near, -1].mean() > 0.5 and alpha[far, -1].max() < 0.05

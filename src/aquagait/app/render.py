@@ -17,9 +17,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from aquagait.app.errors import SetupError
-from aquagait.app.resolve import find_creature
+from aquagait.app.resolve import run_creature
 from aquagait.body.model import Model
-from aquagait.io.run import Run, read_run
+from aquagait.io.run import Run
 from aquagait.viz.gl import RenderUnavailable
 
 FORMATS = ("mp4", "gif", "png")
@@ -74,21 +74,10 @@ def prepare_render(
     if view is not None and view not in VIEWS:
         raise RenderSetupError(f"unknown view {view!r}; views: {', '.join(VIEWS)}")
     try:
-        run = read_run(run_dir)
-    except (FileNotFoundError, ValueError, OSError) as err:
-        raise RenderSetupError(f"{err}; give a directory written by aquagait swim") from None
-    source = run.config.get("creature_source") or run.config.get("creature")
-    if source is None:
-        raise RenderSetupError(f"{run_dir}/config.json does not say which creature swam")
-    try:
-        model = find_creature(source).model
+        run, creature = run_creature(run_dir)
     except SetupError as err:
-        raise RenderSetupError(f"the run's creature {source!r}: {err}") from None
-    if model.nq != run.trajectory.qpos.shape[1]:
-        raise RenderSetupError(
-            f"the run's creature {source!r} has {model.nq} position coordinates but its "
-            f"trajectory {run.trajectory.qpos.shape[1]}: its MJCF changed since the run"
-        )
+        raise RenderSetupError(str(err)) from None
+    model = creature.model
     count = len(run.trajectory.time)
     chosen = _frames(frames, count)
     if model.dim == 2 and view not in (None, "side"):

@@ -1,4 +1,5 @@
-"""NAME or PATH: every job takes a library creature's name or a path to an MJCF file."""
+"""NAME or PATH: every job takes a library creature's name or a path to an MJCF file;
+a run directory says which creature swam (``run_creature``)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ from pathlib import Path
 from aquagait import creatures
 from aquagait.app.errors import SetupError
 from aquagait.creatures import Creature
+from aquagait.io.run import Run, read_run
 
 
 def find_creature(name_or_path: str | Path) -> Creature:
@@ -32,3 +34,34 @@ def creature_key(creature: Creature) -> str:
     if creature.name in creatures.names() and creatures.get(creature.name) is creature:
         return creature.name
     return str(Path(creature.source).resolve())
+
+
+def run_creature(run_dir) -> tuple[Run, Creature]:
+    """A run directory read back, and the creature that swam in it.
+
+    Raises:
+        SetupError: not a run directory, a damaged trajectory, a creature that
+            cannot be found, or one whose MJCF no longer fits the trajectory.
+    """
+    try:
+        run = read_run(run_dir)
+    except FileNotFoundError as err:
+        raise SetupError(f"{err}; give a directory written by aquagait swim") from None
+    except Exception as err:  # a truncated .npz raises zipfile, EOF or value errors
+        raise SetupError(
+            f"{run_dir}: the run cannot be read ({type(err).__name__}: {err}); its "
+            "trajectory.npz may be damaged or cut short: swim it again"
+        ) from None
+    source = run.config.get("creature_source") or run.config.get("creature")
+    if source is None:
+        raise SetupError(f"{run_dir}/config.json does not say which creature swam")
+    try:
+        creature = find_creature(source)
+    except SetupError as err:
+        raise SetupError(f"the run's creature {source!r}: {err}") from None
+    if creature.model.nq != run.trajectory.qpos.shape[1]:
+        raise SetupError(
+            f"the run's creature {source!r} has {creature.model.nq} position coordinates but "
+            f"its trajectory {run.trajectory.qpos.shape[1]}: its MJCF changed since the run"
+        )
+    return run, creature

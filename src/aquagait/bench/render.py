@@ -82,9 +82,9 @@ def measure(frames, traces, length, width, height, creature, samples) -> dict:
     """Draw and encode the frames in this process: ms per frame of each, and their ratio."""
     import aquagait as ag
     from aquagait.body.dynamics import Dynamics
+    from aquagait.body.meshes import link_meshes
     from aquagait.viz.camera import view_camera
     from aquagait.viz.gl import Renderer
-    from aquagait.viz.meshes import link_meshes
 
     model = ag.creatures.get(creature).model
     dynamics, rng = Dynamics(model.mj), np.random.default_rng(0)

@@ -71,6 +71,21 @@ def tail_tip_path(model: Model, qpos, tip: TailTip | None = None) -> np.ndarray:
     return np.array(path).reshape(-1, model.dim)
 
 
+def body_boxes(model: Model, qpos) -> np.ndarray:
+    """The body's world bounding box at each pose: (F, 2, 3) low and high corners [m].
+
+    From the geoms' points (``geom_point_sets``): exact for meshes and boxes,
+    within a few per cent of a round geom's radius.
+    """
+    dynamics, sets = Dynamics(model.mj), geom_point_sets(model)
+    boxes = []
+    for q in np.asarray(qpos, dtype=float).reshape(-1, model.nq):
+        pos, rot = dynamics.link_poses(q)
+        points = np.concatenate([pos[link] + p @ rot[link].T for link, p in sets])
+        boxes.append([points.min(axis=0), points.max(axis=0)])
+    return np.array(boxes)
+
+
 def geom_points(model: Model, world: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Points on every geom of ``model`` at the reference pose, and the link of each.
 

@@ -1,4 +1,4 @@
-"""Unit quaternions (w, x, y, z), MuJoCo's convention, and rotation vectors.
+"""Unit quaternions (w, x, y, z), MuJoCo's convention, rotation vectors and matrices.
 
 A rotation by angle ``a`` [rad] about unit axis ``n`` is the quaternion
 ``(cos(a/2), sin(a/2) n)`` and the rotation vector (exponential map) ``a n``.
@@ -39,3 +39,14 @@ def quat_log(q) -> np.ndarray:
     if s < 1e-12:
         return 2 * q[1:]
     return 2 * np.arctan2(s, q[0]) * q[1:] / s
+
+
+def quat_from_matrix(rot) -> np.ndarray:
+    """Unit quaternions (..., 4), w >= 0, of rotation matrices (..., 3, 3)."""
+    from scipy.spatial.transform import Rotation
+
+    rot = np.asarray(rot, dtype=float)
+    xyzw = Rotation.from_matrix(rot.reshape(-1, 3, 3)).as_quat()
+    wxyz = np.concatenate([xyzw[:, 3:], xyzw[:, :3]], axis=1)
+    wxyz *= np.where(wxyz[:, :1] < 0, -1.0, 1.0)
+    return wxyz.reshape(*rot.shape[:-2], 4)

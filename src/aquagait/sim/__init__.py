@@ -10,7 +10,8 @@ Modules, one concept each: ``scene`` (Scene, State, make_scene, init_state),
 its fields, its step and its largest stable step), ``servo`` (the body's half
 of every step: the policy seam and the stable PD), ``follow`` (the grid that
 follows the swimmer), ``rollout`` (step, advance, rollout, Trajectory) and
-``frames`` (the fluid recorded per frame).
+``frames`` (the fluid recorded per frame) and ``particles`` (traces through
+the recorded flow, for pictures and exports).
 """
 
 from aquagait.sim.fluids import FLUIDS, EulerFluid, FluidModel, SimpleFluid, Vacuum, fluid_model

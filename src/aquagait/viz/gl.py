@@ -4,7 +4,7 @@ OpenGL through EGL with Mesa's software rasterizer (llvmpipe), driven by
 moderngl, the ``render`` extra; moderngl is imported only when a context is
 made, so importing this module needs none of it.
 
-    meshes = link_meshes(model)                                # aquagait.viz.meshes
+    meshes = link_meshes(model)                                # aquagait.body.meshes
     camera = view_camera("side", centre, extent, 640 / 480)    # aquagait.viz.camera
     with Renderer(meshes) as renderer:
         image = renderer.draw(*Dynamics(model.mj).link_poses(qpos), camera, traces, alpha)
@@ -18,7 +18,7 @@ blended over what is drawn and depth tested against the body, writing no
 depth of their own (a trace behind the body is hidden; traces do not hide
 each other).
 
-The meshes come from ``aquagait.viz.meshes``, the camera from
+The meshes come from ``aquagait.body.meshes``, the camera from
 ``aquagait.viz.camera`` (whose image convention ``draw`` follows: top row first).
 """
 
@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from aquagait.body.meshes import LinkMesh
 from aquagait.viz.camera import Camera, unit
-from aquagait.viz.meshes import LinkMesh
 
 INSTALL_MODERNGL = 'pip install "aquagait[render]"'
 INSTALL_EGL = "apt-get install libegl1 libgl1-mesa-dri"

@@ -9,7 +9,7 @@ as the camera sees it, following the grid as it moves with the creature:
   zero inside the body's cells, so the body's own spin does not bleed out;
 - the body: every geom at the frame's pose from the model, filled (without
   a model: the cells inside the body, in grey);
-- particle traces of the last 15 frames (``aquagait.viz.particles``), dark red
+- particle traces of the last 15 frames (``aquagait.sim.particles``), dark red
   where the particle sits in counter-clockwise vorticity, dark blue in
   clockwise, grey where the vorticity is below 5% of the colour scale.
 
@@ -31,7 +31,7 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import geom_point_sets
 from aquagait.body.model import Model
 from aquagait.sim import Trajectory
-from aquagait.viz.particles import particle_traces, sample, vorticity
+from aquagait.sim.particles import particle_traces, sample, vorticity
 
 CCW, CW, CALM = (0.7, 0.0, 0.05, 0.9), (0.0, 0.2, 0.75, 0.9), (0.35, 0.35, 0.35, 0.6)
 BODY, SOLID = (0.22, 0.2, 0.12), np.array([0.6, 0.6, 0.6, 1.0])

@@ -4,11 +4,11 @@ Each picture is drawn by ``aquagait.viz.gl`` (OpenGL through EGL, Mesa's
 software renderer, no screen):
 
 - the creature's geoms at the frame's pose, shaded in their MJCF colours;
-- particle traces of the last 15 frames (``aquagait.viz.particles``),
+- particle traces of the last 15 frames (``aquagait.sim.particles.wake``),
   seeded in a box around the body and living ``lifetime`` frames; a trace
   vertex is as opaque as the vorticity magnitude where the particle was at
-  that frame (full at ``vorticity_scale``), fading towards the trace's old
-  end, so still water draws nothing and the wake's vortices stand out;
+  that frame, fading towards the trace's old end, so still water draws
+  nothing and the wake's vortices stand out;
 - a camera that follows the swimmer: it aims at the body's centre averaged
   over half a second (the tail beat does not shake the picture), from the
   side (-y), the top (+z) or three-quarters behind and above (``follow``),
@@ -26,12 +26,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from aquagait.body.dynamics import Dynamics
-from aquagait.body.geometry import geom_point_sets
+from aquagait.body.geometry import body_boxes
+from aquagait.body.meshes import link_meshes
 from aquagait.body.model import Model
 from aquagait.sim import Trajectory
+from aquagait.sim.particles import wake
 from aquagait.viz.camera import VIEWS, view_camera
-from aquagait.viz.meshes import link_meshes
-from aquagait.viz.particles import particle_traces, sample, vorticity_magnitude
 
 SMOOTHING = 0.5  # [s] the camera's aim is the body's centre averaged over this long
 FRAMING = 1.6  # the view spans this many body lengths along the body's long side
@@ -103,88 +103,50 @@ def volume_pictures(
 def _pictures(trajectory: Trajectory, model: Model, frames, look: Look3D):
     from aquagait.viz.gl import Renderer
 
-    body = _Body(model, trajectory)
-    cameras = _cameras(body, trajectory, look)
-    wake = _Wake(trajectory, body, look) if trajectory.fluid is not None else None
+    dynamics = Dynamics(model.mj)
+    cameras = _cameras(model, trajectory, look)
+    traces = _wake(trajectory, model, look)
     with Renderer(link_meshes(model), look.width, look.height, line_width=1.5) as renderer:
         for f in frames:
-            traces, alpha = wake.at(f) if wake is not None else (None, None)
-            pos, rot = body.poses(f)
-            yield renderer.draw(pos, rot, cameras[f], traces=traces, trace_alpha=alpha)
+            lines, alpha = traces.at(f) if traces is not None else (None, None)
+            pos, rot = dynamics.link_poses(trajectory.qpos[f])
+            yield renderer.draw(pos, rot, cameras[f], traces=lines, trace_alpha=alpha)
 
 
-class _Body:
-    """The creature's link poses and geometry bounds per frame."""
-
-    def __init__(self, model: Model, trajectory: Trajectory):
-        self.dynamics = Dynamics(model.mj)
-        self.sets = geom_point_sets(model)
-        self.qpos = trajectory.qpos
-        self.length = model.body_length
-
-    def poses(self, f: int):
-        return self.dynamics.link_poses(self.qpos[f])
-
-    def bounds(self, f: int) -> np.ndarray:
-        """(2, 3) the low and high corners of the body at frame ``f`` [m]."""
-        pos, rot = self.poses(f)
-        points = np.concatenate([pos[link] + p @ rot[link].T for link, p in self.sets])
-        return np.stack([points.min(axis=0), points.max(axis=0)])
-
-
-def _cameras(body: _Body, trajectory: Trajectory, look: Look3D) -> list:
+def _cameras(model: Model, trajectory: Trajectory, look: Look3D) -> list:
     """One camera a frame: aimed at the body's smoothed centre, framing a fixed box."""
-    boxes = np.array([body.bounds(f) for f in range(len(trajectory.time))])
+    boxes = body_boxes(model, trajectory.qpos)
     centres = boxes.mean(axis=1)
     half = max(1, int(round(0.5 * SMOOTHING * trajectory.fps)))
     padded = np.pad(centres, ((half, half), (0, 0)), mode="edge")
     kernel = np.ones(2 * half + 1) / (2 * half + 1)
     smooth = np.stack([np.convolve(padded[:, a], kernel, mode="valid") for a in range(3)], 1)
     size = (boxes[:, 1] - boxes[:, 0]).max(axis=0)
-    extent = np.maximum(size, 0.4 * body.length)
-    extent = extent * FRAMING * body.length / max(extent.max(), 1e-9)
+    length = model.body_length
+    extent = np.maximum(size, 0.4 * length)
+    extent = extent * FRAMING * length / max(extent.max(), 1e-9)
     aspect = look.width / look.height
     return [view_camera(look.view, centre, extent, aspect) for centre in smooth]
 
 
-class _Wake:
-    """Particle traces with per-vertex opacity, frame after frame (module docstring)."""
+class _Frames:
+    """An iterator's items asked for by increasing index, some skipped (``at(f)``)."""
 
-    def __init__(self, trajectory: Trajectory, body: _Body, look: Look3D):
-        fluid = trajectory.fluid
-        self.fluid, self.look = fluid, look
-        margin = 0.5 * body.length
-        region = np.array([body.bounds(f) for f in range(len(trajectory.time))])
-        region += np.array([-margin, margin])[None, :, None]
-        self.scale = look.vorticity_scale or _vorticity_scale(fluid)
-        self.traces = particle_traces(
-            fluid, trajectory.time, length=look.trace_frames, substeps=look.substeps,
-            seed=look.seed, count=look.particles, region=region, lifetime=look.lifetime,
-        )  # fmt: skip
-        self.fade = np.linspace(0.15, 1.0, look.trace_frames)
-        self.strength = np.zeros((look.particles, look.trace_frames))
-        self.frame, self.last = -1, None
+    def __init__(self, items):
+        self.items, self.frame, self.last = iter(items), -1, None
 
     def at(self, f: int):
-        """(traces (N, L, 3), alpha (N, L)) at frame ``f``; frames asked in increasing order."""
         while self.frame < f:
+            self.last = next(self.items)
             self.frame += 1
-            self.last = traces = next(self.traces)
-            now = self._strength(self.frame, np.nan_to_num(traces[:, -1]))
-            self.strength = np.roll(self.strength, -1, axis=1)
-            self.strength[:, -1] = now
-            self.strength[np.isnan(traces[..., 0])] = 0.0  # a reseeded particle's old trace
-        return self.last, self.strength * self.fade
-
-    def _strength(self, f: int, points: np.ndarray) -> np.ndarray:
-        fluid = self.fluid
-        magnitude = vorticity_magnitude(fluid, f)
-        value = sample(magnitude, fluid.origin[f], fluid.cell_size, points)
-        return np.sqrt(np.clip(value / self.scale, 0.0, 1.0))  # weak vortices stay visible
+        return self.last
 
 
-def _vorticity_scale(fluid) -> float:
-    values = [vorticity_magnitude(fluid, f)[~fluid.solid[f]] for f in range(len(fluid.origin))]
-    values = np.concatenate(values) if values else np.zeros(1)
-    scale = float(np.percentile(values, 99.0)) if values.size else 0.0
-    return scale if scale > 0 else 1.0
+def _wake(trajectory: Trajectory, model: Model, look: Look3D) -> _Frames | None:
+    if trajectory.fluid is None:
+        return None
+    return _Frames(wake(
+        trajectory, model, count=look.particles, length=look.trace_frames,
+        lifetime=look.lifetime, substeps=look.substeps, seed=look.seed,
+        vorticity_scale=look.vorticity_scale,
+    ))  # fmt: skip

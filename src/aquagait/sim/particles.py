@@ -17,7 +17,8 @@ their share), and its trace starts afresh.
 In 3D a few thousand particles cannot fill the whole volume densely, so they
 are seeded in a box around the body (``region``) and live a limited number of
 frames (``lifetime``, staggered), after which they are seeded again: the
-particles stay where the body makes a wake.
+particles stay where the body makes a wake. ``wake`` gives such traces with
+an opacity per position, for the 3D pictures and the exports alike.
 """
 
 from __future__ import annotations
@@ -27,8 +28,10 @@ from itertools import product
 
 import numpy as np
 
+from aquagait.body.geometry import body_boxes
+from aquagait.body.model import Model
 from aquagait.fluid.operators import curl
-from aquagait.sim import FluidFrames
+from aquagait.sim.frames import FluidFrames
 
 
 def sample(field: np.ndarray, origin, cell_size: float, points: np.ndarray) -> np.ndarray:
@@ -150,6 +153,63 @@ def particle_traces(
             traces[lost, -1] = _seed(fluid, f + 1, int(lost.sum()), density, rng, moved[~lost], box)
             age[lost] = 0
         yield traces.copy()
+
+
+def wake(
+    trajectory,
+    model: Model,
+    count: int = 3000,
+    length: int = 15,
+    lifetime: int = 60,
+    substeps: int = 3,
+    seed: int = 0,
+    vorticity_scale: float | None = None,
+    margin: float = 0.5,
+) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """A swim's wake: particle traces and their opacity, frame by frame (DESIGN.md §2.7).
+
+    ``count`` particles are seeded in the body's bounding box grown by
+    ``margin`` body lengths on every side and live ``lifetime`` frames. A
+    trace position is as opaque as the vorticity magnitude where the particle
+    was at that frame, ``sqrt(|omega| / vorticity_scale)`` clipped to 1 (the
+    square root keeps weak vortices in sight), fading to 15% at the trace's
+    old end; still water is transparent.
+
+    Args:
+        trajectory: a ``Trajectory`` with fluid frames (2D or 3D).
+        model: the creature (its bounding box places the seeds).
+        count, length, lifetime, substeps, seed: as for ``particle_traces``.
+        vorticity_scale: |vorticity| [1/s] at full opacity; None: the 99th
+            percentile over the fluid cells of all frames (``vorticity_scale``).
+        margin: the seeding box's margin [body lengths].
+
+    Yields:
+        per frame: traces (N, length, dim) [m] as ``particle_traces`` yields
+        them, and opacity (N, length) in [0, 1].
+    """
+    fluid, time = trajectory.fluid, trajectory.time
+    region = body_boxes(model, trajectory.qpos)[:, :, : fluid.dim]
+    region += np.array([-1.0, 1.0])[None, :, None] * margin * model.body_length
+    scale = vorticity_scale or _vorticity_scale(fluid)
+    fade = np.linspace(0.15, 1.0, length)
+    strength = np.zeros((count, length))
+    traces = particle_traces(fluid, time, length=length, substeps=substeps, seed=seed,
+                             count=count, region=region, lifetime=lifetime)  # fmt: skip
+    for f, now in enumerate(traces):
+        magnitude = vorticity_magnitude(fluid, f)
+        value = sample(magnitude, fluid.origin[f], fluid.cell_size, np.nan_to_num(now[:, -1]))
+        strength = np.roll(strength, -1, axis=1)
+        strength[:, -1] = np.sqrt(np.clip(value / scale, 0.0, 1.0))
+        strength[np.isnan(now[..., 0])] = 0.0  # a re-seeded particle's old trace
+        yield now, strength * fade
+
+
+def _vorticity_scale(fluid: FluidFrames) -> float:
+    """The 99th percentile of |vorticity| over the fluid cells of every frame (1 if none)."""
+    values = [vorticity_magnitude(fluid, f)[~fluid.solid[f]] for f in range(len(fluid.origin))]
+    values = np.concatenate(values) if values else np.zeros(1)
+    scale = float(np.percentile(values, 99.0)) if values.size else 0.0
+    return scale if scale > 0 else 1.0
 
 
 def _box(region, frame):

@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
-from aquagait.sim import FluidFrames
-from aquagait.viz.particles import advect, inside, particle_traces, sample, vorticity
+import aquagait as ag
+from aquagait.sim import FluidFrames, Trajectory
+from aquagait.sim.particles import advect, inside, particle_traces, sample, vorticity, wake
 
 H = 0.01
 SHAPE = (40, 20)
@@ -129,3 +130,26 @@ def test_3d_particles_move_with_uniform_flow_and_are_seeded_in_their_region():
         assert np.all((seeded >= region[f, 0] - H) & (seeded <= region[f, 1] + H))  # whole cells
         # nobody outlives its lifetime: at most `lifetime` positions in a trace
         assert np.all(np.isfinite(traces[..., 0]).sum(axis=1) <= lifetime)
+
+
+def test_a_wake_trace_is_as_opaque_as_the_vorticity_where_it_is():
+    """A blob spinning about z at 5 rad/s behind the fish at rest: opaque in it, clear away."""
+    fish = ag.creatures.get("fish").model
+    at, core, count = np.array([-0.1, 0.0, 0.0]), 0.02, 4
+    origin = np.tile([-0.2, -0.1, -0.1], (count, 1))
+    centres = origin[0] + (np.moveaxis(np.indices((40, 20, 20)), 0, -1) + 0.5) * H
+    r = centres - at
+    spin = 5.0 * np.stack([-r[..., 1], r[..., 0], 0 * r[..., 2]], -1)
+    spin *= np.exp(-(r**2).sum(-1) / core**2)[..., None]
+    velocity = np.broadcast_to(np.moveaxis(spin, -1, 0), (count, 3, 40, 20, 20))
+    fluid = FluidFrames(H, origin, velocity.astype(np.float16), np.zeros((count, 40, 20, 20), bool))
+    zeros = np.zeros((count, fish.nv))
+    traj = Trajectory(np.arange(count) / 30, np.tile(fish.qpos0, (count, 1)), zeros, zeros,
+                      zeros, dt=1 / 90, fps=30.0, fluid=fluid)  # fmt: skip
+    *_, (traces, alpha) = wake(traj, fish, count=4000, lifetime=100)
+    now = traces[:, -1]
+    radius = np.hypot(*(now[:, :2] - at[:2]).T)
+    near = (radius < core) & (np.abs(now[:, 2]) < core)
+    far = radius > 4 * core
+    assert near.sum() > 5 and far.sum() > 100
+    assert alpha[near, -1].mean() > 0.5 and alpha[far, -1].max() < 0.05

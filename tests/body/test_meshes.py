@@ -6,7 +6,7 @@ import pytest
 import aquagait as ag
 from aquagait.body.dynamics import describe
 from aquagait.body.geometry import geom_points, link_volumes
-from aquagait.viz.meshes import link_meshes
+from aquagait.body.meshes import link_meshes
 
 # Every primitive once, turned and moved off the link origin, in a turned link.
 PRIMITIVES = """<mujoco><default><geom density="1000"/></default>
