@@ -88,6 +88,19 @@ def _swim_and_write(setup, out: Path, video: bool, extra_config=None) -> int:
     return 0
 
 
+def _cmd_export(args) -> int:
+    from aquagait.app import SetupError
+    from aquagait.app.export import prepare_export, run_export
+
+    try:
+        setup = prepare_export(args.run_dir, args.format, args.out, args.traces)
+    except SetupError as err:
+        return _fail("export", err, status=2)
+    path = run_export(setup)
+    print(f"wrote {path}")
+    return 0
+
+
 def _cmd_render(args) -> int:
     from aquagait.app import RenderUnavailable, SetupError, prepare_render, run_render
 
@@ -410,6 +423,16 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--frames", metavar="A:B", help="frames A to B-1 (default all)")
     render.add_argument("--out", metavar="FILE", help="default RUN_DIR/swim[-VIEW].FORMAT")
     render.set_defaults(run=_cmd_render)
+
+    export = commands.add_parser(
+        "export", help="write a run directory's swim for other tools: USD, glTF, VTK or HTML"
+    )
+    export.add_argument("run_dir", metavar="RUN_DIR", help="a directory written by aquagait swim")
+    export.add_argument("--format", required=True, choices=("usd", "gltf", "vtk", "html"),
+                        help="usd (Blender, Houdini), gltf, vtk (ParaView), html")  # fmt: skip
+    export.add_argument("--out", metavar="PATH", help="default RUN_DIR/swim.usd, swim.glb, ...")
+    export.add_argument("--traces", type=int, default=1000, help="particle traces exported")
+    export.set_defaults(run=_cmd_export)
 
     demo = commands.add_parser(
         "demo", help="optimize eel2d on a coarse grid, then swim and render the result"
