@@ -26,11 +26,13 @@ Traces: the positions [m] each particle held over the last frames, oldest
 first, point data ``opacity`` in [0, 1] (``SwimExport.trace_alpha``).
 
 The files are binary, appended raw (``header_type="UInt64"``, little-endian,
-Float32 values), written with numpy alone.
+Float32 values) and zlib-compressed at level 1 (``COMPRESSION``: the 4 s fish
+swim's folder 224 MB raw, ~90 MB compressed), written with numpy and zlib.
 """
 
 from __future__ import annotations
 
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +40,9 @@ import numpy as np
 from aquagait.io.export.data import SwimExport
 from aquagait.sim.frames import FluidFrames
 from aquagait.sim.particles import vorticity
+
+COMPRESSION = 1
+"""zlib's level: the fastest; higher levels gain a few per cent at several times the time."""
 
 LIBRARY = "numpy"
 """What this writer needs: nothing beyond the core install."""
@@ -183,25 +188,29 @@ def _polydata(points, kind: str, connectivity, sizes, point_data: dict, cell_dat
 
 
 def _appended(arrays: dict[str, np.ndarray]) -> tuple[dict[str, str], bytes]:
-    """Each array's ``DataArray`` tag, and the appended block holding them all.
+    """Each array's ``DataArray`` tag, and the appended block holding them all, compressed.
 
     Args:
         arrays: name: (n,) or (n, components) values.
     Returns:
-        the tags by name, and the block: per array its size in bytes (UInt64)
-        then its values, little-endian; a tag's ``offset`` counts from the block's start.
+        the tags by name, and the block: per array VTK's zlib header (UInt64:
+        the number of blocks, 1 (0 for an empty array), the block's size, the
+        last block's size and the compressed size) then the values,
+        little-endian, compressed; a tag's ``offset`` counts from the block's start.
     """
     tags, parts, offset = {}, [], 0
     for name, values in arrays.items():
         values = np.ascontiguousarray(values, values.dtype.newbyteorder("<"))
         raw = values.tobytes()
+        packed = zlib.compress(raw, COMPRESSION) if raw else b""
+        header = [1, len(raw), len(raw), len(packed)] if raw else [0, 0, 0]
         components = 1 if values.ndim == 1 else values.shape[1]
         tags[name] = (
             f'<DataArray type="{_TYPES[values.dtype.str[1:]]}" Name="{name}" '
             f'NumberOfComponents="{components}" format="appended" offset="{offset}"/>'
         )
-        parts += [np.array(len(raw), "<u8").tobytes(), raw]
-        offset += 8 + len(raw)
+        parts += [np.array(header, "<u8").tobytes(), packed]
+        offset += 8 * len(header) + len(packed)
     return tags, b"".join(parts)
 
 
@@ -209,6 +218,7 @@ def _document(kind: str, inner: str, blob: bytes) -> bytes:
     """A VTK XML file of ``kind`` with the element ``inner`` and the appended block ``blob``."""
     head = (
         f'<?xml version="1.0"?>\n<VTKFile type="{kind}" version="1.0" byte_order="LittleEndian" '
-        f'header_type="UInt64">\n{inner}\n<AppendedData encoding="raw">\n_'
+        f'header_type="UInt64" compressor="vtkZLibDataCompressor">\n{inner}\n'
+        '<AppendedData encoding="raw">\n_'
     )
     return head.encode() + blob + b"\n</AppendedData>\n</VTKFile>\n"
