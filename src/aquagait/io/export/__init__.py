@@ -77,9 +77,10 @@ def _writer(format: str):
     try:
         module.check_available()
     except ImportError as err:
+        install = getattr(module, "INSTALL", 'pip install "aquagait[export]"')
         raise ExportUnavailable(
             f"the {format} export needs {module.LIBRARY}, which cannot be imported ({err}); "
-            f'install it with: pip install "aquagait[export]"'
+            f"install it with: {install}"
         ) from None
     return module.write
 

@@ -88,7 +88,8 @@ def swim_export(
         lines = np.array([t for t, _ in frames], np.float32)
         alpha = np.array([a for _, a in frames], np.float32)
         if lines.shape[-1] == 2:  # a 2D swim's traces lie in the plane z = 0
-            lines = np.concatenate([lines, np.zeros_like(lines[..., :1])], axis=-1)
+            z = np.where(np.isnan(lines[..., :1]), np.nan, 0.0).astype(np.float32)
+            lines = np.concatenate([lines, z], axis=-1)
     return SwimExport(
         name=name,
         dim=model.dim,
