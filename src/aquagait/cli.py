@@ -232,8 +232,13 @@ def _cmd_compare(args) -> int:
         for trained, swum in cross["distance"].items():
             row = ", ".join(f"in {fluid} {metres:+.4f} m" for fluid, metres in swum.items())
             print(f"gait trained in the {trained} fluid swims {row}")
-    write_compare(runs, out, args.gait, cross, video=not args.no_video,
-                  progress=ProgressBar("rendering"))  # fmt: skip
+    from aquagait.app import RenderUnavailable
+
+    try:
+        write_compare(runs, out, args.gait, cross, video=not args.no_video,
+                      progress=ProgressBar("rendering"))  # fmt: skip
+    except RenderUnavailable as err:
+        print(f"aquagait: the video is skipped, the runs are kept: {err}", file=sys.stderr)
     print(f"wrote {out}/")
     return 0
 
@@ -435,7 +440,7 @@ def build_parser() -> argparse.ArgumentParser:
     export.set_defaults(run=_cmd_export)
 
     demo = commands.add_parser(
-        "demo", help="optimize eel2d on a coarse grid, then swim and render the result"
+        "demo", help="optimize eel2d on a coarse grid, swim and film it; the fish in 3D"
     )
     demo.add_argument("--generations", type=int, default=20, help="CMA-ES generations")
     demo.add_argument("--workers", type=int, help="worker processes (default: all cores)")

@@ -105,11 +105,11 @@ def write_compare(
         summary["swims"][fluid] = {"distance": forward_distance(run), **run.metrics}
     if cross is not None:
         summary["cross"] = cross
+    write_json(out / "compare.json", summary)  # before the pictures, which may be skipped
     if video:
         from aquagait.viz import plot_displacement, render_side_by_side
 
         creature = next(iter(runs.values())).setup.creature
         plot_displacement(runs, out / "displacement.png", title=creature.name)
         render_side_by_side(runs, creature.model, out / "compare.mp4", progress=progress)
-    write_json(out / "compare.json", summary)
     return summary
