@@ -79,7 +79,7 @@ def test_swim_in_the_fluid_with_a_gait_file_and_a_video(tmp_path, capsys):
 @pytest.mark.parametrize(
     "argv,message",
     [
-        (["swim", "eal"], "unknown creature 'eal'; known creatures: accordion2d, eel2d, fish"),
+        (["swim", "eal"], "unknown creature 'eal'; known creatures: accordion2d, alien, eel2d"),
         (["swim", "eel2d", "--gait", "missing.json"], "gait file missing.json does not exist"),
         (["swim", "eel2d", "--fluid", "none", "--resolution", "8", "8", "8"], "has 3 entries"),
         (["swim", "fish", "--fluid", "none", "--resolution", "8", "8"], "give (nx, ny, nz)"),

@@ -16,7 +16,7 @@ from aquagait.io import read_gait, read_run, write_gait
 
 def test_swim_settings_are_checked_before_simulating(tmp_path, eel):
     with pytest.raises(
-        SwimSetupError, match="unknown creature 'eal'; known creatures: accordion2d, eel2d"
+        SwimSetupError, match="unknown creature 'eal'; known creatures: accordion2d, alien, eel2d"
     ):
         prepare_swim("eal")
     with pytest.raises(SwimSetupError, match="has 3 entries but .* is 2D"):

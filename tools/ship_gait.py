@@ -1,0 +1,91 @@
+"""Ship an optimized gait: copy it from a finished ``aquagait optimize`` run into the
+creature's side-car (``src/aquagait/creatures/NAME.aquagait.json``), with its provenance.
+
+Run from the repository root::
+
+    python tools/ship_gait.py runs/turtle2d-opt [--as straight]
+
+The run directory's ``gait.json`` (the best sample), ``config.json`` (the
+optimization's settings: seed, grid, population, generations, the fluid's
+settings) and ``optimization.csv`` (the best objective and the wall time)
+become the gait's ``params`` and ``provenance``, so anyone can run the same
+command again and compare. The best gait's swim (``metrics.json``) adds its
+body lengths per cycle. Other gaits in the side-car are kept.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import re
+import shlex
+from datetime import UTC, datetime
+from pathlib import Path
+
+CREATURES = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures"
+
+
+def provenance(run: Path) -> dict:
+    """How the run found its gait: command, seed, grid, objective, wall time, versions."""
+    config = json.loads((run / "config.json").read_text())
+    opt = config["optimization"]
+    with (run / "optimization.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    if opt.get("target_grid"):
+        raise SystemExit(f"{run} is a coarse-to-fine search: write its provenance by hand")
+    grid = {
+        "resolution": opt["resolution"] or config["resolution"],
+        "cell_size": opt["cell_size"] or config["cell_size"],
+    }
+    command = ["aquagait", "optimize", opt["creature"], "--generations", str(opt["generations"]),
+               "--seed", str(opt["seed"]), "--popsize", str(opt["popsize"])]  # fmt: skip
+    if opt["resolution"] is not None:  # None: the creature's default grid, as the swim's
+        command += ["--resolution", *map(str, opt["resolution"])]
+        command += ["--cell-size", f"{opt['cell_size']:g}"]
+    metrics = json.loads((run / "metrics.json").read_text())
+    return {
+        "method": "optimized",
+        "command": shlex.join(command),
+        "seed": opt["seed"],
+        "generations": len({row["generation"] for row in rows}),
+        "popsize": opt["popsize"],
+        "grid": grid,
+        "fluid_settings": opt.get("fluid_settings"),
+        "objective": float(rows[-1]["best"]),
+        "wall_time": round(float(rows[-1]["elapsed"])),
+        "body_lengths_per_cycle_from_rest": metrics.get("body_lengths_per_cycle_from_rest"),
+        "aquagait": config.get("versions", {}).get("aquagait"),
+        "date": datetime.now(UTC).date().isoformat(),
+    }
+
+
+def ship(run: Path, name: str) -> Path:
+    gait = json.loads((run / "gait.json").read_text())
+    sidecar = CREATURES / f"{gait['creature']}.aquagait.json"
+    meta = json.loads(sidecar.read_text())
+    params = dict(zip(gait["names"], gait["params"], strict=True))
+    meta.setdefault("gaits", {})[name] = {"params": params, "provenance": provenance(run)}
+    sidecar.write_text(_dumps(meta) + "\n")
+    return sidecar
+
+
+def _dumps(obj) -> str:
+    """Indented JSON with every list of plain values and every small dict on one line, as the
+    side-cars are written by hand."""
+    text = json.dumps(obj, indent=2)
+    flat = re.compile(r"([\[{])\s*\n\s*([^\[\]{}]*?)\s*\n\s*([\]}])", re.S)
+    joined = lambda m: m.group(1) + re.sub(r",\s*\n\s*", ", ", m.group(2)) + m.group(3)  # noqa: E731
+    while True:
+        shorter = flat.sub(lambda m: joined(m) if len(joined(m)) <= 72 else m.group(0), text)
+        if shorter == text:
+            return text
+        text = shorter
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", type=Path, help="a finished aquagait optimize run directory")
+    parser.add_argument("--as", dest="name", default="straight", help="the gait's name")
+    args = parser.parse_args()
+    print(f"wrote {ship(args.run, args.name)}")
