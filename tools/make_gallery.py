@@ -5,7 +5,7 @@ every library creature (or those named) it swims the shipped gait from rest
 on the creature's default grid and writes ``docs/gallery/NAME.png``, the last
 frame as ``aquagait render`` draws it (3D creatures from the 'follow' view);
 for the fish also ``docs/fish_swim.png``, a contact sheet of six frames of
-its second cycle from the side.
+its second cycle, three-quarters from behind.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ def gallery(name: str) -> None:
         fps = int(trajectory.fps)
         frames = range(fps, 2 * fps, fps // 6)  # six pictures of the second second
         small = {"width": 320, "height": 240}
-        sheet = render_swim(trajectory, model, DOCS / "fish_swim.png", frames, view="side",
+        sheet = render_swim(trajectory, model, DOCS / "fish_swim.png", frames, view="follow",
                             **small)  # fmt: skip
         print(f"wrote {sheet}")
 
