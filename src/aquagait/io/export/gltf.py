@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from aquagait.io.export.data import SwimExport
+from aquagait.io.run import library_versions
 
 LIBRARY = "pygltflib"
 """What ``pip install`` needs for this format."""
@@ -93,9 +94,7 @@ def write(data: SwimExport, path: Path) -> None:
 
 
 def _version() -> str:
-    from importlib.metadata import version
-
-    return version("aquagait")
+    return library_versions()["aquagait"] or "unknown"
 
 
 def _mesh(gl, blob: _Blob, mesh, name: str):

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from aquagait.io.export.data import SwimExport
+from aquagait.io.run import library_versions
 
 LIBRARY = "usd-core"
 """The pip package that provides ``pxr``."""
@@ -79,8 +80,6 @@ def _describe(stage, data: SwimExport) -> None:
     """Units, up axis, frame rate, time range and where the stage came from."""
     from pxr import UsdGeom
 
-    import aquagait
-
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
     stage.SetTimeCodesPerSecond(data.fps)
@@ -90,7 +89,7 @@ def _describe(stage, data: SwimExport) -> None:
     layer = stage.GetRootLayer()
     layer.documentation = f"aquagait swim of {data.name} ({data.dim}D), {data.frames} frames"
     layer.customLayerData = {
-        "aquagaitVersion": aquagait.__version__,
+        "aquagaitVersion": library_versions()["aquagait"] or "unknown",
         "creature": data.name,
         "simulationDim": data.dim,
     }
