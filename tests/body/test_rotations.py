@@ -89,4 +89,3 @@ def test_quaternions_from_matrices_rotate_as_the_matrices_do():
     mats = np.array([np.stack([rotate(q, e) for e in np.eye(3)], axis=1) for q in quats])
     np.testing.assert_allclose(quat_from_matrix(mats), quats, atol=1e-12)
     assert quat_from_matrix(np.eye(3)).tolist() == [1.0, 0.0, 0.0, 0.0]
-
