@@ -1,0 +1,67 @@
+"""The path follower's choice of manoeuvre, once a cycle (paper §5, DESIGN.md §2.5).
+
+At the start of every gait cycle the follower takes the path's point ``p``
+nearest the creature's root and the path's tangent ``d`` there, both in the
+root's frame (x forward, y to the left, z up; in 2D x and y), and per axis
+of correction (y: turning, z: pitching) applies the paper's rule:
+
+- the path lies to one side (``p_y > eps``) and does not come back towards
+  the creature (``d_y > -eps``): turn that way (turn-left; mirrored for the
+  right);
+- the path lies to one side but heads back towards the creature
+  (``p_y > eps`` and ``d_y < -eps``): the creature is already closing in, so
+  swim straight;
+- the path lies within the dead band ``eps`` (``|p_y| <= eps``): straight, so
+  that small deviations do not make the creature dither between turns.
+
+The same for z with pitch-up and pitch-down. Where both axes ask for a
+correction (3D), the larger offset wins.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+STRAIGHT = "straight"
+MANEUVERS = ("straight", "turn-left", "turn-right", "pitch-up", "pitch-down")
+_TOWARDS = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
+"""Per root-frame axis, the manoeuvres towards its + and - side."""
+
+
+def root_frame(vector, root_rotation) -> np.ndarray:
+    """A world vector (dim,) in the root's frame: ``R^T v`` with ``R`` the root's rotation.
+
+    Args:
+        vector: (2,) or (3,) world vector.
+        root_rotation: (3, 3) the root link's world rotation (2D: about z).
+    """
+    vector = np.asarray(vector, dtype=float)
+    padded = np.zeros(3)
+    padded[: len(vector)] = vector
+    return (np.asarray(root_rotation, dtype=float).T @ padded)[: len(vector)]
+
+
+def choose_maneuver(offset, tangent, dead_band: float) -> str:
+    """The manoeuvre the paper's rule picks (module docstring).
+
+    Args:
+        offset: (dim,) from the root to the nearest path point, in the root's frame [m].
+        tangent: (dim,) the path's unit tangent there, in the root's frame.
+        dead_band: ``eps`` [m for the offset; the same number bounds the tangent's
+            component, as in the paper].
+
+    Returns:
+        one of ``MANEUVERS``.
+    """
+    offset, tangent = np.asarray(offset, dtype=float), np.asarray(tangent, dtype=float)
+    eps = float(dead_band)
+    wanted = []
+    for axis, (positive, negative) in _TOWARDS.items():
+        if axis >= len(offset):
+            continue
+        p, d = offset[axis], tangent[axis]
+        if p > eps and d > -eps:
+            wanted.append((p, positive))
+        elif p < -eps and d < eps:
+            wanted.append((-p, negative))
+    return max(wanted)[1] if wanted else STRAIGHT
