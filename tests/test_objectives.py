@@ -118,3 +118,35 @@ def test_total_weighs_the_terms(eel):
 def test_direction_must_fit_the_dimension(eel):
     with pytest.raises(ValueError, match="nonzero vector of 2 numbers"):
         obj.distance(eel.model, trajectory(np.zeros((2, 7))), (1, 0, 0))
+
+
+def test_a_turn_is_rewarded_about_its_axis_and_not_counted_as_deviation(eel):
+    path = np.zeros((2, eel.model.nq))
+    path[1, 2] = 0.3  # the eel turned 0.3 rad to the left (counter-clockwise)
+    left, right = obj.maneuver_goal("turn-left", 2), obj.maneuver_goal("turn-right", 2)
+    np.testing.assert_allclose(left[0], [np.sqrt(0.5), np.sqrt(0.5)])  # half way to +y
+    traj = trajectory(path)
+    assert obj.turning(eel.model, traj, left[1]) == pytest.approx(-0.3)
+    assert obj.turning(eel.model, traj, right[1]) == pytest.approx(0.3)
+    assert obj.deviation(eel.model, traj, left[0], left[1]) == pytest.approx(0.0)
+    assert obj.deviation(eel.model, traj, (1, 0)) == pytest.approx(0.3)  # straight: all of it
+
+
+def test_pitching_up_turns_the_nose_up_and_only_unwanted_rotation_deviates():
+    fish = ag.creatures.get("fish").model
+    path = np.tile(fish.qpos0, (2, 1))
+    up, roll = 0.2, 0.1
+    about_minus_y = np.array([np.cos(up / 2), 0, -np.sin(up / 2), 0])  # nose (+x) towards +z
+    roll_q = np.array([np.cos(roll / 2), np.sin(roll / 2), 0, 0])
+    path[1, 3:7] = about_minus_y
+    nose = obj.rotation_vector(fish, trajectory(path))
+    np.testing.assert_allclose(nose, [0, -up, 0], atol=1e-12)
+    d, r = obj.maneuver_goal("pitch-up", 3)
+    assert obj.turning(fish, trajectory(path), r) == pytest.approx(-up)
+    assert obj.turning(fish, trajectory(path), obj.maneuver_goal("pitch-down", 3)[1]) > 0
+    path[1, 3:7] = obj.quat_mul(roll_q, about_minus_y)  # pitched up, then rolled a little
+    assert obj.deviation(fish, trajectory(path), d, r) == pytest.approx(roll, rel=0.05)
+    with pytest.raises(ValueError, match="'pitch-up' is for 3D creatures"):
+        obj.maneuver_goal("pitch-up", 2)
+    with pytest.raises(ValueError, match="unknown manoeuvre 'loop'; manoeuvres: straight, "):
+        obj.maneuver_goal("loop", 3)

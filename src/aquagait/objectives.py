@@ -20,6 +20,12 @@ Over a run of (by default) two gait cycles, minimized:
   volume is a snapshot per sampled frame, so it is integrated by the
   trapezoid rule over the sampled frames' times (the last frame included).
 
+A manoeuvre (paper §5, DESIGN.md §2.5: ``MANEUVERS``) adds ``E_turn = -r .
+dtheta``, the root's rotation vector ``dtheta`` along the desired axis ``r``
+negated [rad], with the desired direction ``d`` half way to the turn, and
+its ``E_deviation`` counts only the unwanted rotation,
+``|dtheta - (r . dtheta) r|``.
+
 Each term is a function of a ``Trajectory``; weights and direction are
 ``Weights`` and an argument. The units mix, as in the paper: the weights
 (0.2 and 100) were chosen for them.
@@ -65,16 +71,53 @@ def root_displacement(model: Model, traj: Trajectory) -> np.ndarray:
     return position[-1] - position[0]
 
 
-def root_rotation(model: Model, traj: Trajectory) -> float:
-    """The angle of the root's change of orientation over the run [rad].
+MANEUVERS = {
+    "straight": ((1.0, 0.0, 0.0), None),
+    "turn-left": ((1.0, 1.0, 0.0), (0.0, 0.0, 1.0)),
+    "turn-right": ((1.0, -1.0, 0.0), (0.0, 0.0, -1.0)),
+    "pitch-up": ((1.0, 0.0, 1.0), (0.0, -1.0, 0.0)),
+    "pitch-down": ((1.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
+}
+"""Per manoeuvre, the desired direction ``d`` (half way from facing +x to the turn's
+direction) and axis of rotation ``r`` (None: no turn wanted), for a creature that faces +x
+with z up. Pitching up turns the nose (+x) towards +z: a rotation about -y."""
 
-    2D: the planar root's hinge angle changes; 3D: the norm of the rotation
-    vector (exponential map) of ``q_end q_start^-1``.
+
+def maneuver_goal(name: str, dim: int) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(d, r)`` of the manoeuvre ``name`` in ``dim`` dimensions (``MANEUVERS``).
+
+    Raises:
+        ValueError: an unknown manoeuvre, or a pitch asked of a 2D creature.
+    """
+    if name not in MANEUVERS:
+        raise ValueError(f"unknown manoeuvre {name!r}; manoeuvres: {', '.join(MANEUVERS)}")
+    if dim == 2 and name.startswith("pitch"):
+        raise ValueError(f"a 2D creature turns in its plane; {name!r} is for 3D creatures")
+    direction, axis = MANEUVERS[name]
+    d = _unit(direction[:dim], dim)
+    return d, None if axis is None else np.asarray(axis, dtype=float)
+
+
+def rotation_vector(model: Model, traj: Trajectory) -> np.ndarray:
+    """The root's change of orientation over the run as a world rotation vector (3,) [rad].
+
+    2D: ``(0, 0, dtheta)``, the planar root's hinge angle change; 3D: the
+    exponential map of ``q_end q_start^-1``.
     """
     if model.dim == 2:
-        return float(abs(traj.qpos[-1, 2] - traj.qpos[0, 2]))
+        return np.array([0.0, 0.0, traj.qpos[-1, 2] - traj.qpos[0, 2]])
     start, end = traj.qpos[0, 3:7], traj.qpos[-1, 3:7]
-    return float(np.linalg.norm(quat_log(quat_mul(end, quat_conj(start)))))
+    return quat_log(quat_mul(end, quat_conj(start)))
+
+
+def root_rotation(model: Model, traj: Trajectory) -> float:
+    """The angle of the root's change of orientation over the run [rad] (``rotation_vector``)."""
+    return float(np.linalg.norm(rotation_vector(model, traj)))
+
+
+def turning(model: Model, traj: Trajectory, axis) -> float:
+    """``E_turn = -r . dtheta`` [rad]: more negative is more rotation about the axis ``r``."""
+    return -float(np.asarray(axis, dtype=float) @ rotation_vector(model, traj))
 
 
 def distance(model: Model, traj: Trajectory, direction) -> float:
@@ -82,11 +125,19 @@ def distance(model: Model, traj: Trajectory, direction) -> float:
     return -float(_unit(direction, model.dim) @ root_displacement(model, traj))
 
 
-def deviation(model: Model, traj: Trajectory, direction) -> float:
-    """``E_deviation = |dp - (d . dp) d| + |dtheta|``: drift [m] plus turning [rad]."""
+def deviation(model: Model, traj: Trajectory, direction, axis=None) -> float:
+    """``E_deviation = |dp - (d . dp) d| + |dtheta|``: drift [m] plus turning [rad].
+
+    With a manoeuvre's ``axis`` ``r``, only the unwanted rotation counts:
+    ``|dtheta - (r . dtheta) r|``.
+    """
     d = _unit(direction, model.dim)
     dp = root_displacement(model, traj)
-    return float(np.linalg.norm(dp - (d @ dp) * d)) + root_rotation(model, traj)
+    rotation = rotation_vector(model, traj)
+    if axis is not None:
+        r = np.asarray(axis, dtype=float)
+        rotation = rotation - (r @ rotation) * r
+    return float(np.linalg.norm(dp - (d @ dp) * d) + np.linalg.norm(rotation))
 
 
 def work(traj: Trajectory) -> float:
@@ -133,10 +184,14 @@ def total(
     direction,
     energy_bound: float,
     weights: Weights = Weights(),  # noqa: B008 (frozen)
+    axis=None,
 ) -> float:
-    """The objective ``E`` of a run (module docstring)."""
+    """The objective ``E`` of a run (module docstring); a manoeuvre's with its ``axis``."""
     model = scene.model
-    value = distance(model, traj, direction) + weights.deviation * deviation(model, traj, direction)
+    value = distance(model, traj, direction)
+    value += weights.deviation * deviation(model, traj, direction, axis)
+    if axis is not None:
+        value += turning(model, traj, axis)
     value += energy(traj, energy_bound, weights.energy)
     if weights.collision:
         value += weights.collision * collision(scene, traj)
