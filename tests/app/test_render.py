@@ -65,6 +65,13 @@ def test_a_directory_that_is_not_a_run_is_named(tmp_path):
         prepare_render(tmp_path)
 
 
+def test_an_output_that_cannot_be_written_is_refused_before_drawing(eel_run, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(RenderSetupError, match="cannot write the run directory .*file"):
+        prepare_render(eel_run, out=blocker / "swim.mp4")
+
+
 # --- 3D ------------------------------------------------------------------------------
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from aquagait.app.errors import SetupError
+from aquagait.app.errors import SetupError, output_directory
 from aquagait.app.resolve import run_creature
 from aquagait.body.model import Model
 from aquagait.io.run import Run
@@ -85,6 +85,10 @@ def prepare_render(
     view = view or DEFAULT_VIEW
     suffix = "" if model.dim == 2 or view == DEFAULT_VIEW else f"-{view}"
     path = Path(out) if out is not None else Path(run_dir) / f"swim{suffix}.{format}"
+    try:
+        output_directory(path.parent)
+    except SetupError as err:
+        raise RenderSetupError(str(err)) from None
     return RenderSetup(run, model, chosen, view, path)
 
 
