@@ -47,3 +47,42 @@ def test_the_shipped_gait_swims_forward_straight_within_its_energy_bound(name):
     assert two_cycles <= 1.05 * creature.energy_bound  # the objective lets it just past
     if name not in DRIFTS:
         assert turn < STRAIGHT_DEGREES
+
+
+def joint_phases(creature, trajectory, period: float = 1.0) -> np.ndarray:
+    """Each gait joint's phase [rad] at the gait frequency over the last two cycles."""
+    model, frames = creature.model, 2 * 30
+    shift = model.nq - model.nv  # a free root has one more position than velocity
+    columns = [model.dof_names.index(d) + shift for d in creature.gait.dofs]
+    t, q = trajectory.time[-frames:], trajectory.qpos[-frames:, columns]
+    return np.angle(((q - q.mean(0)) * np.exp(-2j * np.pi * t / period)[:, None]).sum(0))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["eel2d", "eel3d", "fish"])
+def test_fish_and_eels_bend_in_a_wave_travelling_head_to_tail(name):
+    """Biology (Lighthill 1969; Videler 1993): the body wave travels from head to tail, so
+    each joint lags the one before it, and the tail moves most."""
+    creature = ag.creatures.get(name)
+    traj = run_swim(prepare_swim(name, seconds=float(CYCLES))).trajectory
+    lags = np.angle(np.exp(1j * np.diff(joint_phases(creature, traj))))
+    print(f"{name}: phase lag per joint {np.round(lags, 2).tolist()} rad")
+    assert np.all(lags < 0)
+    shift = creature.model.nq - creature.model.nv
+    columns = [creature.model.dof_names.index(d) + shift for d in creature.gait.dofs]
+    swing = np.ptp(traj.qpos[-60:, columns], axis=0)
+    assert swing[-1] == swing.max()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, group", [("frog", 0), ("turtle3d", 0)])
+def test_the_propulsive_limbs_do_most_of_the_work(name, group):
+    """The frog kicks with its hind legs (Richards 2010), the sea turtle flies with its front
+    flippers (Wyneken 1997): their first gait group does most of the actuator work."""
+    creature = ag.creatures.get(name)
+    traj = run_swim(prepare_swim(name, seconds=2.0)).trajectory
+    work = traj.energy[-1]
+    limbs = [creature.model.dof_names.index(d) for d in creature.gait.groups[group]]
+    share = work[limbs].sum() / work.sum()
+    print(f"{name}: group {group} does {100 * share:.1f}% of the work")
+    assert share > 0.5
