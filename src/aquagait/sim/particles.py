@@ -180,7 +180,7 @@ def wake(
         model: the creature (its bounding box places the seeds).
         count, length, lifetime, substeps, seed: as for ``particle_traces``.
         vorticity_scale: |vorticity| [1/s] at full opacity; None: the 99th
-            percentile over the fluid cells of all frames (``vorticity_scale``).
+            percentile over the fluid cells of all frames (``vorticity_percentile``).
         margin: the seeding box's margin [body lengths].
 
     Yields:
@@ -190,7 +190,7 @@ def wake(
     fluid, time = trajectory.fluid, trajectory.time
     region = body_boxes(model, trajectory.qpos)[:, :, : fluid.dim]
     region += np.array([-1.0, 1.0])[None, :, None] * margin * model.body_length
-    scale = vorticity_scale or _vorticity_scale(fluid)
+    scale = vorticity_scale or vorticity_percentile(fluid)
     fade = np.linspace(0.15, 1.0, length)
     strength = np.zeros((count, length))
     traces = particle_traces(fluid, time, length=length, substeps=substeps, seed=seed,
@@ -204,12 +204,28 @@ def wake(
         yield now, strength * fade
 
 
-def _vorticity_scale(fluid: FluidFrames) -> float:
-    """The 99th percentile of |vorticity| over the fluid cells of every frame (1 if none)."""
+def vorticity_percentile(fluid: FluidFrames, percentile: float = 99.0) -> float:
+    """A percentile of |vorticity| over the fluid cells of every frame [1/s] (1 if none):
+    the colour or opacity scale of the pictures."""
     values = [vorticity_magnitude(fluid, f)[~fluid.solid[f]] for f in range(len(fluid.origin))]
     values = np.concatenate(values) if values else np.zeros(1)
-    scale = float(np.percentile(values, 99.0)) if values.size else 0.0
+    scale = float(np.percentile(values, percentile)) if values.size else 0.0
     return scale if scale > 0 else 1.0
+
+
+class Replay:
+    """Items of an iterator asked for by increasing frame index, some skipped: ``at(f)``
+    advances the iterator to item ``f`` (the traces of frame ``f`` depend on every frame
+    before it)."""
+
+    def __init__(self, items):
+        self.items, self.frame, self.last = iter(items), -1, None
+
+    def at(self, f: int):
+        while self.frame < f:
+            self.last = next(self.items)
+            self.frame += 1
+        return self.last
 
 
 def _box(region, frame):

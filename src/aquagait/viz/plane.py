@@ -31,7 +31,13 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import geom_point_sets
 from aquagait.body.model import Model
 from aquagait.sim import Trajectory
-from aquagait.sim.particles import particle_traces, sample, vorticity
+from aquagait.sim.particles import (
+    Replay,
+    particle_traces,
+    sample,
+    vorticity,
+    vorticity_percentile,
+)
 
 CCW, CW, CALM = (0.7, 0.0, 0.05, 0.9), (0.0, 0.2, 0.75, 0.9), (0.35, 0.35, 0.35, 0.6)
 BODY, SOLID = (0.22, 0.2, 0.12), np.array([0.6, 0.6, 0.6, 1.0])
@@ -106,9 +112,8 @@ class _Picture:
         ax = self.figure.add_axes((0, 0, 1, 1))
         ax.set_axis_off()
         self.ax = ax
-        self.frame = -1
         if self.fluid is not None:
-            self.scale = look.vorticity_scale or _vorticity_scale(self.fluid)
+            self.scale = look.vorticity_scale or vorticity_percentile(self.fluid, 99.5)
             self.image = ax.imshow(
                 np.zeros((2, 2)), origin="lower", cmap=_pale_colormap(), vmin=-self.scale,
                 vmax=self.scale, interpolation="bilinear", interpolation_stage="data",
@@ -116,14 +121,14 @@ class _Picture:
             self.solid = None
             if model is None:
                 self.solid = ax.imshow(np.zeros((2, 2, 4)), origin="lower", interpolation="nearest")
-            self.traces = particle_traces(
+            self.traces = Replay(particle_traces(
                 self.fluid,
                 trajectory.time,
                 look.particles_per_cell,
                 look.trace_frames,
                 look.substeps,
                 look.seed,
-            )
+            ))  # fmt: skip
             self.lines = ax.add_collection(LineCollection([], linewidths=0.8))
         filled = model is not None and model.dim == 2
         self.body = ax.add_collection(
@@ -146,9 +151,7 @@ class _Picture:
             if self.solid is not None:
                 self.solid.set_data((solid[..., None] * SOLID).transpose(1, 0, 2))
                 self.solid.set_extent(extent)
-            while self.frame < f:
-                traces = next(self.traces)
-                self.frame += 1
+            traces = self.traces.at(f)
             self.lines.set_segments(traces)
             self.lines.set_color(self._trace_colours(omega, low, traces[:, -1]))
         else:
@@ -234,10 +237,3 @@ def _hull(points: np.ndarray) -> np.ndarray:
 
 def _cross(o, a, b) -> float:
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-
-def _vorticity_scale(fluid) -> float:
-    values = [np.abs(vorticity(fluid, f))[~fluid.solid[f]] for f in range(len(fluid.origin))]
-    values = np.concatenate(values) if values else np.zeros(1)
-    scale = float(np.percentile(values, 99.5)) if values.size else 0.0
-    return scale if scale > 0 else 1.0

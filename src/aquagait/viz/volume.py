@@ -30,7 +30,7 @@ from aquagait.body.geometry import body_boxes
 from aquagait.body.meshes import link_meshes
 from aquagait.body.model import Model
 from aquagait.sim import Trajectory
-from aquagait.sim.particles import wake
+from aquagait.sim.particles import Replay, wake
 from aquagait.viz.camera import VIEWS, view_camera
 
 SMOOTHING = 0.5  # [s] the camera's aim is the body's centre averaged over this long
@@ -129,23 +129,10 @@ def _cameras(model: Model, trajectory: Trajectory, look: Look3D) -> list:
     return [view_camera(look.view, centre, extent, aspect) for centre in smooth]
 
 
-class _Frames:
-    """An iterator's items asked for by increasing index, some skipped (``at(f)``)."""
-
-    def __init__(self, items):
-        self.items, self.frame, self.last = iter(items), -1, None
-
-    def at(self, f: int):
-        while self.frame < f:
-            self.last = next(self.items)
-            self.frame += 1
-        return self.last
-
-
-def _wake(trajectory: Trajectory, model: Model, look: Look3D) -> _Frames | None:
+def _wake(trajectory: Trajectory, model: Model, look: Look3D) -> Replay | None:
     if trajectory.fluid is None:
         return None
-    return _Frames(wake(
+    return Replay(wake(
         trajectory, model, count=look.particles, length=look.trace_frames,
         lifetime=look.lifetime, substeps=look.substeps, seed=look.seed,
         vorticity_scale=look.vorticity_scale,
