@@ -102,7 +102,7 @@ def test_gait_files_that_do_not_fit_are_refused(tmp_path, eel):
         path.write_text(json.dumps({**data, **fields}))
         return path
 
-    with pytest.raises(GaitFileError, match=r"has 3 gait parameters; eel2d has 8: amplitude\[j1\]"):
+    with pytest.raises(GaitFileError, match=r"has 3 gait parameters; eel2d's straight gait has 8: amplitude\[j1\]"):
         read_gait(gait_file(names=["a", "b", "c"], params=[1, 2, 3]), eel)
     with pytest.raises(GaitFileError, match="is a gait for 'fish', not for 'eel2d'"):
         read_gait(gait_file(creature="fish"), eel)

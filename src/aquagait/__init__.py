@@ -30,6 +30,36 @@ try:
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0.0.0+unknown"
 
+
+def follow_path(creature, path, cycles: int = 10, out=None, video: bool = False, **options):
+    """Swim a creature along a path with its learned manoeuvres (paper §5).
+
+        run = ag.follow_path("eel2d", "circle:radius=0.6", cycles=12, out="runs/eel-circle")
+        run.metrics["path_distance_mean_body_lengths"], run.decisions
+
+    Args:
+        creature: a library creature's name or the path of an MJCF file.
+        path: a CSV or JSON file of points [m], a shape ``NAME[:key=value,...]``
+            (line, circle, s-curve), or an ``aquagait.path.Path``.
+        cycles: gait cycles to swim.
+        out: a run directory to write (``aquagait.app.follow.write_follow``), or None.
+        video: with ``out``, also the video with the path and the picture of the way.
+        **options: ``learned``, ``resolution``, ``cell_size``, ``dead_band``,
+            ``blend``, ``open_loop``, ``fps``, ``fluid``
+            (``aquagait.app.follow.prepare_follow``).
+
+    Returns:
+        ``aquagait.app.follow.FollowRun``: trajectory, decisions per cycle, the
+        distance to the path per frame, metrics.
+    """
+    from aquagait.app.follow import prepare_follow, run_follow, write_follow
+
+    run = run_follow(prepare_follow(creature, path, cycles, **options))
+    if out is not None:
+        write_follow(run, out, video=video)
+    return run
+
+
 __all__ = [
     "EulerFluid",
     "Grid",
@@ -37,6 +67,7 @@ __all__ = [
     "Vacuum",
     "__version__",
     "creatures",
+    "follow_path",
     "init_state",
     "load_model",
     "make_scene",

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import aquagait
 from aquagait.bench import BENCHMARKS
+from aquagait.objectives import MANEUVERS
 from aquagait.sim import FLUIDS
 
 NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF file"
@@ -88,6 +89,38 @@ def _swim_and_write(setup, out: Path, video: bool, extra_config=None) -> int:
     return 0
 
 
+def _cmd_follow(args) -> int:
+    from aquagait.app import RenderUnavailable, SetupError, output_directory
+    from aquagait.app.follow import follow_summary, prepare_follow, run_follow, write_follow
+    from aquagait.sim import SimulationError
+
+    try:
+        setup = prepare_follow(
+            args.name,
+            args.path,
+            cycles=args.cycles,
+            learned=args.learned or (),
+            resolution=args.resolution,
+            cell_size=args.cell_size,
+            dead_band=args.dead_band,
+            open_loop=args.open_loop,
+        )
+        mode = "open-loop" if args.open_loop else "follow"
+        out = output_directory(args.out or Path("runs") / f"{setup.creature.name}-{mode}")
+    except SetupError as err:
+        return _fail("follow", err, status=2)
+    try:
+        run = run_follow(setup, progress=ProgressBar("swimming"))
+    except SimulationError as err:
+        return _fail("follow", err, status=1)
+    try:
+        write_follow(run, out, video=not args.no_video, progress=ProgressBar("rendering"))
+    except RenderUnavailable as err:
+        print(f"aquagait: the pictures are skipped, the run is kept: {err}", file=sys.stderr)
+    print(follow_summary(run, out))
+    return 0
+
+
 def _cmd_export(args) -> int:
     from aquagait.app import SetupError
     from aquagait.app.export import prepare_export, run_export
@@ -129,8 +162,10 @@ def _cmd_optimize(args) -> int:
             cell_size=args.cell_size,
             coarse=args.coarse,
             refine_top=args.refine_top,
+            maneuver=args.maneuver,
         )
-        out = output_directory(args.out or Path("runs") / setup.creature.name)
+        label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
+        out = output_directory(args.out or Path("runs") / label)
     except SetupError as err:
         return _fail("optimize", err, status=2)
     for note in setup.notes:
@@ -396,9 +431,45 @@ def build_parser() -> argparse.ArgumentParser:
     optimize.add_argument("--refine-top", type=int, default=2, metavar="K",
                           help="with --coarse: samples a generation swum on the "
                           "target grid")  # fmt: skip
+    optimize.add_argument("--maneuver", choices=MANEUVERS, default="straight",
+                          help="learn a manoeuvre (paper §5; 2D creatures turn, 3D ones "
+                          "also pitch): offsets freed, rotation rewarded")  # fmt: skip
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=_cmd_optimize)
+
+    follow = commands.add_parser(
+        "follow", help="follow a path with learned manoeuvres (paper §5); write the run, "
+        "the distance to the path, a video and a picture of the way"
+    )  # fmt: skip
+    follow.add_argument("name", metavar="NAME", help=NAME_HELP)
+    follow.add_argument("--path", required=True, metavar="FILE|SHAPE",
+                        help="a CSV or JSON file of points [m], or a shape: line, circle, "
+                        "s-curve, with parameters as NAME:key=value,... (e.g. circle:"
+                        "radius=0.6, s-curve:length=4,amplitude=0.5,vertical=true)")  # fmt: skip
+    follow.add_argument("--cycles", type=int, default=10, help="gait cycles to swim")
+    follow.add_argument("--learned", nargs="+", metavar="RUN|FILE",
+                        help="manoeuvres learned by aquagait optimize --maneuver (run "
+                        "directories or gait.json), beside the shipped ones")  # fmt: skip
+    follow.add_argument("--dead-band", type=float, metavar="M",
+                        help="distance from the path [m] within which it swims straight "
+                        "(default: a tenth of a body length)")  # fmt: skip
+    follow.add_argument(
+        "--open-loop",
+        action="store_true",
+        help="swim straight only, to measure the drift without following",
+    )
+    follow.add_argument(
+        "--resolution",
+        type=int,
+        nargs="+",
+        metavar="N",
+        help="cells per axis (default: the creature's, square in 2D)",
+    )
+    follow.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
+    follow.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME-follow)")
+    follow.add_argument("--no-video", action="store_true", help="skip swim.mp4 and follow.png")
+    follow.set_defaults(run=_cmd_follow)
 
     compare = commands.add_parser(
         "compare", help="one gait in the Euler and the simple fluid: distances, plot, video"

@@ -29,6 +29,7 @@ from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature
 from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
+from aquagait.creatures.creature import STRAIGHT, maneuver_start
 from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
@@ -61,6 +62,9 @@ class SwimObjective:
         weights: the objective's weights.
         clearance: cells of water the Euler fluid keeps around the body, or
             None for its default (a coarse grid keeps fewer, as many metres).
+        maneuver: the manoeuvre learned (``objectives.MANEUVERS``); the
+            parameters are in its parameterization (``Creature.spec``).
+        axis: the manoeuvre's desired axis of rotation (3,), None for straight.
     """
 
     creature: str
@@ -71,13 +75,16 @@ class SwimObjective:
     direction: tuple[float, ...] = (1.0, 0.0)
     weights: objectives.Weights = field(default_factory=objectives.Weights)
     clearance: float | None = None
+    maneuver: str = STRAIGHT
+    axis: tuple[float, ...] | None = None
 
     def __call__(self, params) -> float:
         creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid,
                                  self.clearance)  # fmt: skip
-        policy = creature.policy(np.asarray(params, dtype=float))
+        policy = creature.policy(np.asarray(params, dtype=float), self.maneuver)
         traj = rollout(scene, init_state(scene), policy, self.seconds, record_fluid=False)
-        return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights)
+        return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights,
+                                axis=self.axis)  # fmt: skip
 
 
 @functools.lru_cache(maxsize=4)
@@ -98,10 +105,12 @@ class JointLimits:
     """``feasible(params) -> bool``: the gait's sines stay within the joint limits (picklable)."""
 
     creature: str
+    maneuver: str = STRAIGHT
 
     def __call__(self, params) -> bool:
         creature = creatures.resolve(self.creature)
-        return not creature.gait.limit_violations(params, *creature.gait_limits())
+        spec = creature.spec(self.maneuver)
+        return not spec.limit_violations(params, *creature.gait_limits())
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,7 +142,8 @@ class OptimizationSetup:
         """The resolved settings, for ``config.json``."""
         o, s = self.objective, self.settings
         return dict(
-            creature=self.creature.name, fluid=o.fluid,
+            creature=self.creature.name, maneuver=o.maneuver,
+            axis=None if o.axis is None else list(o.axis), fluid=o.fluid,
             fluid_settings=_fluid(o.fluid, o.clearance).settings(),
             resolution=o.resolution,
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
@@ -160,6 +170,7 @@ def prepare_optimization(
     cycles: float = DEFAULT_CYCLES,
     coarse: float | None = None,
     refine_top: int = 2,
+    maneuver: str = STRAIGHT,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -175,6 +186,10 @@ def prepare_optimization(
             (``aquagait.app.coarse``) and swim each generation's best
             ``refine_top`` again on the target grid; None: the target grid only.
         refine_top: samples refined per generation in a coarse-to-fine search.
+        maneuver: what to learn (paper §5): ``straight``, or a turn or pitch
+            (``objectives.MANEUVERS``): its offsets freed, the desired direction
+            half way to the turn, a reward for rotating about its axis
+            (``objectives.total``); the search starts from the straight gait.
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
     """
@@ -198,22 +213,29 @@ def prepare_optimization(
         _scene(key, _tuple(resolution), cell_size, fluid)
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
-    gait = creature.gait
-    period = float(np.max(gait.unpack(creature.default_gait).period))
-    direction = (1.0,) + (0.0,) * (creature.dim - 1)
+    try:
+        direction, axis = objectives.maneuver_goal(maneuver, creature.dim)
+    except ValueError as err:
+        raise OptimizationSetupError(str(err)) from None
+    gait = creature.spec(maneuver)
+    x0 = maneuver_start(creature, maneuver)
+    period = float(np.max(gait.unpack(x0).period))
     seconds = cycles * period
-    objective = SwimObjective(key, _tuple(resolution), cell_size, fluid, seconds, direction)
+    objective = SwimObjective(
+        key, _tuple(resolution), cell_size, fluid, seconds, tuple(direction.tolist()),
+        maneuver=maneuver, axis=None if axis is None else tuple(axis.tolist()),
+    )  # fmt: skip
     refine, notes = None, ()
     if coarse is not None:
         objective, refine, notes = _coarse_to_fine(creature, objective, coarse)
     groups = gait.groups or ()
     problem = Problem(
         objective=objective,
-        x0=creature.default_gait.copy(),
+        x0=x0,
         lower=gait.lower,
         upper=gait.upper,
         sigma0=None,  # a quarter of every parameter's range
-        feasible=JointLimits(key),
+        feasible=JointLimits(key, maneuver),
         groups=tuple(gait.group_indices(k) for k in range(len(groups))) if len(groups) > 1 else (),
         names=gait.names,
         refine=refine,
@@ -260,7 +282,7 @@ def write_optimization(setup: OptimizationSetup, result: Result, out, plot: bool
     from aquagait.optimize import LOG
 
     out = Path(out)
-    write_gait(out / "gait.json", setup.creature, result.best_x)
+    write_gait(out / "gait.json", setup.creature, result.best_x, setup.objective.maneuver)
     if plot:
         from aquagait.viz import plot_convergence
 

@@ -39,12 +39,13 @@ class SwimSetup:
 
     Attributes:
         creature: the library creature.
-        params: (n,) gait parameter vector (``creature.gait.names``).
+        params: (n,) gait parameter vector (``spec.names``).
         gait_source: 'default' or the gait file it came from.
         scene: the scene (fluid, grid).
         seconds: simulated time [s].
         dt: largest time step [s], or None for ``rollout``'s default.
         fps: frames per second recorded.
+        maneuver: the manoeuvre the gait swims (its parameterization: ``spec``).
     """
 
     creature: Creature
@@ -54,11 +55,17 @@ class SwimSetup:
     seconds: float
     dt: float | None = None
     fps: float = FRAMES_PER_SECOND
+    maneuver: str = "straight"
+
+    @property
+    def spec(self):
+        """The gait's parameterization (``Creature.spec``)."""
+        return self.creature.spec(self.maneuver)
 
     @property
     def period(self) -> float:
         """The gait's cycle T [s] (the longest, if the DOFs' periods differ)."""
-        return float(np.max(self.creature.gait.unpack(self.params).period))
+        return float(np.max(self.spec.unpack(self.params).period))
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,11 +114,13 @@ def prepare_swim(
         creature = find_creature(name)
     except SetupError as err:
         raise SwimSetupError(str(err)) from None
+    maneuver = "straight"
     if isinstance(gait, str | Path):
         try:
-            params, source = read_gait(gait, creature).params, str(gait)
+            found = read_gait(gait, creature)
         except GaitFileError as err:
             raise SwimSetupError(str(err)) from None
+        params, source, maneuver = found.params, str(gait), found.maneuver
     else:
         params = creature.default_gait if gait is None else np.asarray(gait, dtype=float)
         source = "default" if gait is None else "given"
@@ -127,7 +136,7 @@ def prepare_swim(
         scene = make_scene(creature, resolution=resolution, cell_size=cell_size, fluid=fluid)
     except ValueError as err:
         raise SwimSetupError(str(err)) from None
-    return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps))
+    return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver)
 
 
 def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
@@ -142,7 +151,7 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
             the body outgrew the grid; time and place in the message).
     """
     creature, scene = setup.creature, setup.scene
-    policy = creature.policy(setup.params)
+    policy = creature.policy(setup.params, setup.maneuver)
     steps = {} if setup.dt is None else {"dt": setup.dt}
     trajectory = rollout(
         scene, init_state(scene), policy, setup.seconds, fps=setup.fps, progress=progress, **steps
@@ -166,7 +175,8 @@ def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
         "dim": creature.dim,
         "gait": {
             "source": setup.gait_source,
-            "names": list(creature.gait.names),
+            "maneuver": setup.maneuver,
+            "names": list(setup.spec.names),
             "params": setup.params,
         },
         "period": setup.period,
@@ -205,7 +215,7 @@ def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progre
     creature = run.setup.creature
     config = {**run.config, **(extra_config or {})}
     out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
-    write_gait(out / "gait.json", creature, run.setup.params)
+    write_gait(out / "gait.json", creature, run.setup.params, run.setup.maneuver)
     if video:
         draw_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress)
     return out

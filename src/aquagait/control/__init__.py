@@ -4,7 +4,7 @@ Above ``sim`` in the layers: the simulation receives a policy object and never
 imports this package (see ``aquagait.sim`` for the seam).
 """
 
-from aquagait.control.gait import KINDS, GaitSpec, SineGait
+from aquagait.control.gait import KINDS, GaitSpec, SineGait, SwitchedGait
 from aquagait.control.pd import PD, StablePD, gains
 
-__all__ = ["KINDS", "PD", "GaitSpec", "SineGait", "StablePD", "gains"]
+__all__ = ["KINDS", "PD", "GaitSpec", "SineGait", "StablePD", "SwitchedGait", "gains"]

@@ -68,6 +68,62 @@ class SineGait:
 
 
 @dataclass(frozen=True)
+class SwitchedGait:
+    """One gait handing over to another: the references blend over ``duration`` from ``start``.
+
+    ``qbar(t) = (1 - s) qbar_before(t) + s qbar_after(t)`` with ``s`` rising
+    smoothly (``3 u^2 - 2 u^3``, ``u = (t - start) / duration``) from 0 to 1, so
+    that a path follower's change of manoeuvre does not jump the reference
+    angles or their rates. Before ``start`` it is ``before``, after
+    ``start + duration`` it is ``after``.
+
+    Attributes:
+        before, after: the gaits, driving the same ``dofs`` in the same order.
+        start: when the hand-over begins [s].
+        duration: how long it takes [s], >= 0 (0: a jump).
+    """
+
+    before: SineGait
+    after: SineGait
+    start: float
+    duration: float
+
+    def __post_init__(self):
+        if tuple(self.before.dofs) != tuple(self.after.dofs):
+            raise ValueError(
+                f"a switch between gaits needs the same DOFs in the same order; got "
+                f"{self.before.dofs} and {self.after.dofs}"
+            )
+        if not self.duration >= 0:
+            raise ValueError(f"a switch's duration must be >= 0 s, got {self.duration!r}")
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return self.after.dofs
+
+    def weight(self, t: float) -> tuple[float, float]:
+        """``(s, ds/dt)`` at time ``t`` [s]: the share of ``after`` and its rate [1/s]."""
+        if self.duration == 0:
+            return float(t >= self.start), 0.0
+        u = min(max((t - self.start) / self.duration, 0.0), 1.0)
+        return 3 * u**2 - 2 * u**3, 6 * u * (1 - u) / self.duration
+
+    def angles(self, t: float) -> np.ndarray:
+        """Reference angles qbar(t), (n,) [rad]."""
+        s, _ = self.weight(t)
+        return (1 - s) * self.before.angles(t) + s * self.after.angles(t)
+
+    def rates(self, t: float) -> np.ndarray:
+        """Reference angular rates d qbar / dt, (n,) [rad/s]."""
+        s, ds = self.weight(t)
+        return (
+            (1 - s) * self.before.rates(t)
+            + s * self.after.rates(t)
+            + ds * (self.after.angles(t) - self.before.angles(t))
+        )
+
+
+@dataclass(frozen=True)
 class GaitSpec:
     """Which sine parameters are optimized and how they drive the DOFs.
 
@@ -186,6 +242,25 @@ class GaitSpec:
             values = np.broadcast_to(np.asarray(per_dof[kind], dtype=float), (len(self.dofs),))
             x.append(values[self.dofs.index(dof[:-1])] if dof else values[0])
         return np.array(x)
+
+    def vector(self, gait: SineGait) -> np.ndarray:
+        """The parameter vector that drives ``gait``: ``unpack``'s inverse.
+
+        A negative amplitude is written as its size with the phase turned by
+        pi (the same sine), phases wrapped into [-pi, pi). A shared kind takes
+        the first DOF's value and mirrored DOFs are not read, so the vector
+        drives ``gait`` exactly only where this parameterization can express it.
+        """
+        if tuple(gait.dofs) != self.dofs:
+            raise ValueError(f"the gait drives {gait.dofs}; this parameterization {self.dofs}")
+        flip = gait.amplitude < 0
+        values = {
+            "amplitude": np.abs(gait.amplitude),
+            "phase": (gait.phase + np.pi * flip + np.pi) % (2 * np.pi) - np.pi,
+            "period": gait.period,
+            "offset": gait.offset,
+        }
+        return self.pack(**{kind: values[kind] for kind in self.free})
 
     def limit_violations(self, x, lower, upper) -> list[str]:
         """DOFs whose sine leaves their joint limits: ``offset +- |amplitude|`` outside [lo, hi].

@@ -17,14 +17,22 @@ import numpy as np
 
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
-from aquagait.control.gait import GaitSpec
+from aquagait.control.gait import DEFAULT_BOUNDS, GaitSpec, SineGait
 from aquagait.control.pd import StablePD
+from aquagait.objectives import MANEUVERS
 from aquagait.sim.follow import CLEARANCE, cells_around
+
+STRAIGHT = "straight"
 
 
 class CreatureError(ValueError):
     """A creature file, its metadata or a creature built from them is not usable;
     the message names the file, the entry, what is wrong and what would be right."""
+
+
+class UnlearnedManeuver(CreatureError):
+    """A manoeuvre the creature has no gait for; the message lists the learned ones and
+    the command that learns it."""
 
 
 class UnknownCreatureError(KeyError):
@@ -68,7 +76,9 @@ class Creature:
         description: one line.
         source: the MJCF file it was loaded from ('' when built in Python).
         metadata_path: its side-car (``<stem>.aquagait.json``), or None.
-        gaits: shipped gaits by name (``straight``, later manoeuvres).
+        gaits: shipped gaits by name: ``straight``, the learned manoeuvres
+            (``turn-left``, ``pitch-up``, ...: its manoeuvre library, each in the
+            parameterization ``spec(name)``) and any others (``optimized``).
         notes: the defaults that were filled in, one line each.
     """
 
@@ -104,11 +114,91 @@ class Creature:
         """Joint limits (lower, upper) of the gait's DOFs, each (n,) [rad]."""
         return dof_limits(self.model, self.gait.dofs)
 
-    def policy(self, params=None) -> StablePD:
-        """The stable PD servo tracking gait ``params`` (default: ``default_gait``)."""
-        x = self.default_gait if params is None else params
-        gait = self.gait.unpack(x)
+    def spec(self, maneuver: str = STRAIGHT) -> GaitSpec:
+        """The gait parameterization manoeuvre ``maneuver`` is learned in (``maneuver_spec``)."""
+        return maneuver_spec(self.gait, self.model, maneuver)
+
+    @property
+    def maneuvers(self) -> tuple[str, ...]:
+        """The manoeuvres it has learned: straight, then those with a shipped gait."""
+        return (STRAIGHT,) + tuple(m for m in MANEUVERS if m != STRAIGHT and m in self.gaits)
+
+    def maneuver_gait(self, maneuver: str) -> np.ndarray:
+        """The parameter vector of a learned manoeuvre (``straight``: ``default_gait``).
+
+        Raises:
+            UnlearnedManeuver: it has no gait for ``maneuver``.
+        """
+        if maneuver == STRAIGHT:
+            return self.default_gait
+        if maneuver not in self.maneuvers:
+            raise UnlearnedManeuver(
+                f"{self.name} has not learned {maneuver!r}; it has learned "
+                f"{', '.join(self.maneuvers)}. Learn it with: aquagait optimize {self.name} "
+                f"--maneuver {maneuver} --out runs/{self.name}-{maneuver}"
+            )
+        return self.gaits[maneuver].params
+
+    def policy(self, params=None, maneuver: str = STRAIGHT) -> StablePD:
+        """The stable PD servo tracking gait ``params`` of ``spec(maneuver)``
+        (default: the manoeuvre's learned gait, straight: ``default_gait``)."""
+        x = self.maneuver_gait(maneuver) if params is None else params
+        return self.servo(self.spec(maneuver).unpack(x))
+
+    def servo(self, gait) -> StablePD:
+        """The stable PD servo, with this creature's gains, tracking ``gait`` (a ``SineGait``
+        or anything with ``dofs`` and ``angles(t)``)."""
         return StablePD.tuned(self.model, gait, self.natural_frequency, self.damping_ratio)
+
+
+def maneuver_spec(spec: GaitSpec, model: Model, maneuver: str) -> GaitSpec:
+    """The gait parameterization a manoeuvre is learned in (paper §5, DESIGN.md §2.5).
+
+    Straight swimming uses ``spec`` itself. A turn or a pitch frees the
+    offsets, so that joints can hold a bend while they beat; each offset
+    ranges over its joint's limits within ``DEFAULT_BOUNDS["offset"]``
+    (+-0.5 rad; an offset the straight gait already frees keeps its bounds).
+    A turn also drops the mirror: it bends one side unlike the other, so
+    every DOF gets its own parameters (a mirrored DOF takes its source's
+    bounds). A pitch keeps the mirror, as it is symmetric left to right.
+
+    Raises:
+        ValueError: an unknown manoeuvre.
+    """
+    if maneuver == STRAIGHT:
+        return spec
+    if maneuver not in MANEUVERS:
+        raise ValueError(f"unknown manoeuvre {maneuver!r}; manoeuvres: {', '.join(MANEUVERS)}")
+    bounds = dict(spec.bounds)
+    mirror = spec.mirror
+    if maneuver.startswith("turn"):
+        mirror = ()
+        for dof, source, sign in spec.mirror:
+            for key, (lo, hi) in spec.bounds.items():
+                kind, _, of = key.partition("[")
+                if of == f"{source}]":
+                    flip = sign < 0 and kind == "offset"
+                    bounds[f"{kind}[{dof}]"] = (-hi, -lo) if flip else (lo, hi)
+    free = spec.free
+    if "offset" not in spec.free:
+        free = spec.free + ("offset",)
+        low, high = DEFAULT_BOUNDS["offset"]
+        lower, upper = dof_limits(model, spec.dofs)
+        mirrored = {m[0] for m in mirror}
+        for dof, lo, hi in zip(spec.dofs, lower, upper, strict=True):
+            if dof not in mirrored:
+                bounds[f"offset[{dof}]"] = (max(lo, low), min(hi, high))
+    return GaitSpec(
+        dofs=spec.dofs, free=free, shared=tuple(k for k in spec.shared if k != "offset"),
+        mirror=mirror, groups=spec.groups, bounds=bounds, amplitude=spec.amplitude,
+        phase=spec.phase, period=spec.period, offset=spec.offset,
+    )  # fmt: skip
+
+
+def maneuver_start(creature: Creature, maneuver: str) -> np.ndarray:
+    """Where a manoeuvre's search starts: the straight gait in the manoeuvre's parameters."""
+    straight: SineGait = creature.gait.unpack(creature.default_gait)
+    return creature.spec(maneuver).vector(straight)
 
 
 def actuated_dof_names(model: Model) -> tuple[str, ...]:
@@ -159,10 +249,11 @@ def creature_problems(c: Creature) -> list[str]:
         return [f"gait DOFs {missing} are not actuated DOFs of the model ({', '.join(actuated)})"]
     problems = []
     limits = c.gait_limits()
-    for label, x in [("default gait", c.default_gait)] + [
-        (f"shipped gait {name!r}", g.params) for name, g in c.gaits.items()
+    for label, x, spec in [("default gait", c.default_gait, c.gait)] + [
+        (f"shipped gait {name!r}", g.params, c.spec(name if name in MANEUVERS else STRAIGHT))
+        for name, g in c.gaits.items()
     ]:
-        problems += [f"{label} {p}" for p in gait_problems(c.gait, x, *limits)]
+        problems += [f"{label} {p}" for p in gait_problems(spec, x, *limits)]
     if len(c.resolution) != c.dim:
         problems.append(f"resolution {c.resolution} is not {c.dim}D")
     elif not (np.isfinite(c.cell_size) and c.cell_size > 0):

@@ -72,11 +72,16 @@ The entries (units: rad, s, m, J; the paper's gait is
 - ``energy_bound`` [J]: actuator work over two cycles above which the objective's
   energy term switches on. Default ``5 m (L/T)^2`` (``defaults.ENERGY_COEFFICIENT``).
 - ``gaits``: shipped gaits by name; ``straight`` is the creature's default
-  gait (later: manoeuvres such as ``turn-left``). ``params`` is the parameter
-  vector, either by name (``{"amplitude[j1]": 0.25, ...}``, exactly the gait's
-  parameter names) or as a list in their order (``GaitSpec.names``: for each
-  free kind, one entry if shared, else one per DOF that is not mirrored;
-  every shipped gait is checked against this one parameterization);
+  gait; ``turn-left``, ``turn-right``, ``pitch-up`` and ``pitch-down`` are its
+  learned manoeuvres (``aquagait optimize --maneuver``, followed by
+  ``aquagait follow``); any other name is a gait kept for reference. ``params``
+  is the parameter vector, either by name (``{"amplitude[j1]": 0.25, ...}``,
+  exactly the gait's parameter names) or as a list in their order
+  (``GaitSpec.names``: for each free kind, one entry if shared, else one per
+  DOF that is not mirrored). Every shipped gait is checked against the
+  gait's parameterization; a manoeuvre's against its own
+  (``creature.maneuver_spec``: the offsets freed, and for a turn the mirror
+  dropped);
   ``provenance`` is a free-form record of how it was made: ``method``
   ('hand-set' or 'optimized'), ``command``, ``seed``, ``grid``, ``objective``,
   ``wall_time`` [s], ``date``, anything else worth keeping.
@@ -112,9 +117,11 @@ from aquagait.creatures.creature import (
     actuated_dof_names,
     dof_limits,
     gait_problems,
+    maneuver_spec,
     smallest_grid,
 )
 from aquagait.creatures.schema import at, check_sidecar
+from aquagait.objectives import MANEUVERS
 from aquagait.sim.follow import CLEARANCE
 
 SUFFIX = ".aquagait.json"
@@ -234,9 +241,10 @@ def _shipped_gaits(model: Model, spec: GaitSpec, meta: Metadata) -> tuple[dict, 
     limits = dof_limits(model, spec.dofs)
     for name, entry in meta.gaits.items():
         where = at(at("gaits", name), "params")
-        x, wrong = _params(spec, entry["params"], where)
+        own = maneuver_spec(spec, model, name) if name in MANEUVERS else spec
+        x, wrong = _params(own, entry["params"], where)
         if not wrong:
-            wrong = [f"{where}: the gait {p}" for p in gait_problems(spec, x, *limits)]
+            wrong = [f"{where}: the gait {p}" for p in gait_problems(own, x, *limits)]
         problems += wrong
         gaits[name] = ShippedGait(x, entry["provenance"])
     return gaits, problems

@@ -2,6 +2,7 @@
 
     {
       "creature": "eel2d",
+      "maneuver": "straight",
       "names": ["amplitude[j1]", ..., "phase[j4]"],
       "params": [0.25, ..., 1.78]
     }
@@ -9,6 +10,8 @@
 ``names`` and ``params`` are the creature's ``GaitSpec.names`` and the vector
 x that CMA-ES searches (amplitudes and phases in rad, periods in s). The
 names make a file readable and catch a vector meant for another gait.
+``maneuver`` (absent: ``straight``) says which parameterization the vector
+is in: a turn or a pitch has its offsets free (``Creature.spec``).
 """
 
 from __future__ import annotations
@@ -20,6 +23,9 @@ import numpy as np
 
 from aquagait.creatures import Creature
 from aquagait.io.run import read_json, write_json
+from aquagait.objectives import MANEUVERS
+
+STRAIGHT = "straight"
 
 
 class GaitFileError(ValueError):
@@ -28,23 +34,32 @@ class GaitFileError(ValueError):
 
 @dataclass(frozen=True)
 class GaitFile:
-    """A gait read from disk: ``creature`` name, parameter ``names`` and ``params`` (n,)."""
+    """A gait read from disk: ``creature`` name, parameter ``names``, ``params`` (n,) and the
+    ``maneuver`` it swims."""
 
     creature: str
     names: tuple[str, ...]
     params: np.ndarray
+    maneuver: str = STRAIGHT
 
 
-def write_gait(path, creature: Creature, params=None) -> Path:
+def write_gait(path, creature: Creature, params=None, maneuver: str = STRAIGHT) -> Path:
     """Write ``params`` (default: the creature's ``default_gait``) as ``gait.json`` at ``path``.
+
+    Args:
+        maneuver: the manoeuvre the gait swims, whose parameterization
+            ``params`` is in (``Creature.spec``).
 
     Raises:
         GaitFileError: ``params`` does not fit the creature's gait.
     """
     params = creature.default_gait if params is None else np.asarray(params, dtype=float)
-    gait = GaitFile(creature.name, tuple(creature.gait.names), params)
+    gait = GaitFile(creature.name, tuple(creature.spec(maneuver).names), params, maneuver)
     _check_fits(gait, creature, source="the gait to write")
-    return write_json(path, {"creature": gait.creature, "names": gait.names, "params": params})
+    return write_json(
+        path,
+        {"creature": gait.creature, "maneuver": maneuver, "names": gait.names, "params": params},
+    )
 
 
 def read_gait(path, creature: Creature | None = None) -> GaitFile:
@@ -79,20 +94,25 @@ def read_gait(path, creature: Creature | None = None) -> GaitFile:
         )
     if not np.all(np.isfinite(params)):
         raise GaitFileError(f"{path}: 'params' must be finite numbers, got {params.tolist()}")
-    gait = GaitFile(str(data["creature"]), tuple(str(n) for n in names), params)
+    maneuver = data.get("maneuver", STRAIGHT)
+    if maneuver not in MANEUVERS:
+        raise GaitFileError(
+            f"{path}: 'maneuver' is {maneuver!r}; manoeuvres are {', '.join(MANEUVERS)}"
+        )
+    gait = GaitFile(str(data["creature"]), tuple(str(n) for n in names), params, maneuver)
     if creature is not None:
         _check_fits(gait, creature, source=str(path))
     return gait
 
 
 def _check_fits(gait: GaitFile, creature: Creature, source: str) -> None:
-    spec = creature.gait
+    spec = creature.spec(gait.maneuver)
     if gait.creature != creature.name:
         raise GaitFileError(f"{source} is a gait for {gait.creature!r}, not for {creature.name!r}")
     if gait.params.shape != (spec.size,):
         raise GaitFileError(
-            f"{source} has {gait.params.size} gait parameters; {creature.name} has "
-            f"{spec.size}: {', '.join(spec.names)}"
+            f"{source} has {gait.params.size} gait parameters; {creature.name}'s "
+            f"{gait.maneuver} gait has {spec.size}: {', '.join(spec.names)}"
         )
     if tuple(gait.names) != tuple(spec.names):
         raise GaitFileError(

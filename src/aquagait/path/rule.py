@@ -22,8 +22,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from aquagait import objectives
+
 STRAIGHT = "straight"
-MANEUVERS = ("straight", "turn-left", "turn-right", "pitch-up", "pitch-down")
+MANEUVERS = tuple(objectives.MANEUVERS)
 _TOWARDS = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
 """Per root-frame axis, the manoeuvres towards its + and - side."""
 

@@ -68,6 +68,7 @@ def rollout(
     fps=FRAMES_PER_SECOND,
     progress=None,
     record_fluid: bool = True,
+    plan=None,
 ) -> Trajectory:
     """Simulate ``seconds`` [s] from ``state`` and sample frames.
 
@@ -83,6 +84,10 @@ def rollout(
             after every frame (for progress bars).
         record_fluid: keep the fluid of every frame (for pictures);
             off when only the body matters, as in optimization.
+        plan: optional ``plan(state) -> policy``, asked at the start of every
+            frame; the policy it returns drives the steps to the next frame
+            (a path follower chooses its manoeuvre this way; ``policy`` is
+            then unused).
 
     Returns:
         The trajectory, ``round(seconds * fps) + 1`` frames including the start;
@@ -102,6 +107,8 @@ def rollout(
     frames = [_small(state)]  # a frame's fluid is recorded as it comes, not kept whole
     fluid = [fluid_frame(scene, state)] if has_flow else None
     for k in range(1, total + 1):
+        if plan is not None:
+            policy = plan(state)
         state = advance(scene, state, policy, start + k / fps, dt)
         frames.append(_small(state))
         if has_flow:

@@ -189,27 +189,34 @@ class Renderer:
             self._ctx = None
 
     def draw(self, link_pos, link_rot, camera: Camera, traces=None, trace_alpha=None,
-             trace_colour=(0.1, 0.2, 0.45)) -> np.ndarray:  # fmt: skip
-        """One picture: the links at their poses, then the traces over them.
+             trace_colour=(0.1, 0.2, 0.45), lines=()) -> np.ndarray:  # fmt: skip
+        """One picture: the links at their poses, then the traces and lines over them.
 
         Args:
-            link_pos: (nlinks, 3) world origins of the links [m].
-            link_rot: (nlinks, 3, 3) their world rotations (``Dynamics.link_poses``).
+            link_pos: (nlinks, 3) world origins of the links [m]; or (K, nlinks, 3)
+                to draw the body K times (snapshots along its way).
+            link_rot: (nlinks, 3, 3) their world rotations (``Dynamics.link_poses``);
+                or (K, nlinks, 3, 3).
             camera: where the picture is taken from.
             traces: (N, L, 3) world positions [m] of N particles over their last
                 L frames, oldest first; NaN where a trace is younger than L.
             trace_alpha: (N, L) opacity in [0, 1] at each position; default 1.
             trace_colour: RGB in [0, 1] of the traces.
+            lines: ``(points, rgb)`` pairs: opaque polylines through (n, 3) world
+                points [m] (a path to follow), hidden by the body.
         Returns:
             (height, width, 3) uint8 RGB, top row first.
         """
         if self._ctx is None:
             raise RuntimeError("this Renderer is closed; make a new one to draw")
         link_pos, link_rot = np.asarray(link_pos, float), np.asarray(link_rot, float)
-        if link_pos.shape != (self.nlinks, 3) or link_rot.shape != (self.nlinks, 3, 3):
-            n = self.nlinks
+        if link_pos.ndim == 2:
+            link_pos, link_rot = link_pos[None], link_rot[None]
+        n = self.nlinks
+        if link_pos.shape[1:] != (n, 3) or link_rot.shape != link_pos.shape[:2] + (3, 3):
             raise ValueError(f"link poses of shapes {link_pos.shape} and {link_rot.shape}; "
-                             f"the renderer has {n} links: ({n}, 3) and ({n}, 3, 3)")  # fmt: skip
+                             f"the renderer has {n} links: ({n}, 3) and ({n}, 3, 3), "
+                             "or K of each")  # fmt: skip
         segments = None if traces is None else trace_segments(traces, trace_alpha)
         with self._ctx:
             self._target.use()
@@ -217,9 +224,14 @@ class Renderer:
             view_projection = _gl(
                 camera.projection_matrix(self.width / self.height) @ camera.view_matrix()
             )
-            self._draw_links(link_pos, link_rot, camera, view_projection)
+            for pos, rot in zip(link_pos, link_rot, strict=True):
+                self._draw_links(pos, rot, camera, view_projection)
             if segments is not None and len(segments):
                 self._draw_traces(segments, view_projection, trace_colour)
+            for points, colour in lines:
+                line = trace_segments(np.asarray(points, dtype=float)[None])
+                if len(line):
+                    self._draw_traces(line, view_projection, colour, 2 * self.line_width)
             if self._target is not self._image:
                 self._ctx.copy_framebuffer(self._image, self._target)
             pixels = self._image.read(components=3, alignment=1)
@@ -244,7 +256,8 @@ class Renderer:
                 self._body["rotation"].write(_gl(rotation))
                 vao.render()
 
-    def _draw_traces(self, segments: np.ndarray, view_projection: bytes, colour) -> None:
+    def _draw_traces(self, segments: np.ndarray, view_projection: bytes, colour,
+                     width: float | None = None) -> None:  # fmt: skip
         import moderngl
 
         data = segments.astype("f4", copy=False).tobytes()
@@ -255,7 +268,7 @@ class Renderer:
         self._ctx.disable(moderngl.CULL_FACE)
         self._ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         self._ctx.depth_mask = False  # traces are hidden by the body, never by each other
-        self._ctx.line_width = self.line_width
+        self._ctx.line_width = self.line_width if width is None else width
         self._trace["view_projection"].write(view_projection)
         self._trace["tint"].value = tuple(float(c) for c in colour)
         self._trace_vao.render(moderngl.LINES, vertices=len(segments))

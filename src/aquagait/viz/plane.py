@@ -38,6 +38,7 @@ from aquagait.sim.particles import (
     vorticity,
     vorticity_percentile,
 )
+from aquagait.viz.style import ROUTE
 
 CCW, CW, CALM = (0.7, 0.0, 0.05, 0.9), (0.0, 0.2, 0.75, 0.9), (0.35, 0.35, 0.35, 0.6)
 BODY, SOLID = (0.22, 0.2, 0.12), np.array([0.6, 0.6, 0.6, 1.0])
@@ -59,6 +60,8 @@ class Look:
         vorticity_scale: |vorticity| [1/s] at full colour; None: the 99.5th
             percentile over the fluid cells of all frames.
         seed: particle placement.
+        route: (n, 2) world points [m] of a path to follow, drawn as a red
+            line; None: no path.
     """
 
     pixels_per_cell: int | None = None
@@ -67,6 +70,7 @@ class Look:
     substeps: int = 3
     vorticity_scale: float | None = None
     seed: int = 0
+    route: np.ndarray | None = None
 
 
 def plane_pictures(
@@ -130,10 +134,18 @@ class _Picture:
                 look.seed,
             ))  # fmt: skip
             self.lines = ax.add_collection(LineCollection([], linewidths=0.8))
+        if look.route is not None:
+            route = np.asarray(look.route, dtype=float)
+            ax.plot(route[:, 0], route[:, 1], color=ROUTE, linewidth=2.0, linestyle=(0, (6, 3)),
+                    zorder=1.5)  # fmt: skip
         filled = model is not None and model.dim == 2
         self.body = ax.add_collection(
             PolyCollection(
-                [], facecolors=BODY if filled else "none", edgecolors="black", linewidths=0.8
+                [],
+                facecolors=BODY if filled else "none",
+                edgecolors="black",
+                linewidths=0.8,
+                zorder=2,
             )
         )
         self.clock = ax.text(0.01, 0.98, "", transform=ax.transAxes, va="top", fontsize=9)

@@ -32,6 +32,7 @@ from aquagait.body.model import Model
 from aquagait.sim import Trajectory
 from aquagait.sim.particles import Replay, wake
 from aquagait.viz.camera import VIEWS, view_camera
+from aquagait.viz.style import ROUTE
 
 SMOOTHING = 0.5  # [s] the camera's aim is the body's centre averaged over this long
 FRAMING = 1.6  # the view spans this many body lengths along the body's long side
@@ -51,6 +52,8 @@ class Look3D:
         vorticity_scale: |vorticity| [1/s] at full opacity; None: the 99th
             percentile over the fluid cells of all frames.
         seed: particle placement.
+        route: (n, 3) world points [m] of a path to follow, drawn as a red
+            line; None: no path.
     """
 
     view: str = "follow"
@@ -62,6 +65,7 @@ class Look3D:
     substeps: int = 3
     vorticity_scale: float | None = None
     seed: int = 0
+    route: np.ndarray | None = None
 
     def __post_init__(self):
         if self.view not in VIEWS:
@@ -106,11 +110,13 @@ def _pictures(trajectory: Trajectory, model: Model, frames, look: Look3D):
     dynamics = Dynamics(model.mj)
     cameras = _cameras(model, trajectory, look)
     traces = _wake(trajectory, model, look)
+    route = () if look.route is None else ((look.route, ROUTE),)
     with Renderer(link_meshes(model), look.width, look.height, line_width=1.5) as renderer:
         for f in frames:
             lines, alpha = traces.at(f) if traces is not None else (None, None)
             pos, rot = dynamics.link_poses(trajectory.qpos[f])
-            yield renderer.draw(pos, rot, cameras[f], traces=lines, trace_alpha=alpha)
+            yield renderer.draw(pos, rot, cameras[f], traces=lines, trace_alpha=alpha,
+                                lines=route)  # fmt: skip
 
 
 def _cameras(model: Model, trajectory: Trajectory, look: Look3D) -> list:

@@ -1,0 +1,387 @@
+"""Follow a path with learned manoeuvres and keep the run on disk (paper §5, DESIGN.md §2.5).
+
+    setup = prepare_follow("eel2d", "circle:radius=0.6", cycles=12)
+    run = run_follow(setup, progress=lambda done, total: ...)
+    write_follow(run, "runs/eel2d-circle", video=True)
+    # config.json, trajectory.npz, metrics.json, path.csv, maneuvers.csv,
+    # path_distance.csv, swim.mp4 (the path in red), follow.png (Figure 10)
+
+The path is a CSV or JSON file of points in metres (``aquagait.path.read_path``)
+or a named shape with parameters, ``NAME[:key=value,...]`` (``line``,
+``circle``, ``s-curve``; ``aquagait.path.shape``), placed to start at the
+root link's starting position and heading along +x, where every library
+creature faces. The manoeuvres are the creature's learned ones (its
+side-car's ``turn-left``, ``pitch-up``, ...) and any ``gait.json`` of
+``aquagait optimize --maneuver`` given as ``learned``.
+
+At the start of every cycle the follower (``aquagait.path.Follower``) picks
+the manoeuvre by the paper's rule with a dead band of ``dead_band`` (by
+default a tenth of a body length) and blends the switch over a quarter of a
+cycle. ``open_loop`` swims the straight gait alone along the same path, to
+measure how far the creature drifts without following.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path as FilePath
+
+import numpy as np
+
+from aquagait.app.errors import SetupError
+from aquagait.app.resolve import creature_key, find_creature
+from aquagait.creatures import Creature
+from aquagait.creatures.creature import STRAIGHT
+from aquagait.io.gait import GaitFileError, read_gait
+from aquagait.io.run import library_versions, write_run
+from aquagait.metrics import travel_metrics
+from aquagait.objectives import MANEUVERS
+from aquagait.path import (
+    BLEND,
+    SHAPES,
+    Follower,
+    Path,
+    PathError,
+    read_path,
+    root_pose,
+    shape,
+)
+from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
+
+DEFAULT_CYCLES = 10
+DEAD_BAND = 0.1
+"""The follower's dead band, in body lengths."""
+
+NEEDED = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
+"""Per axis across the root frame (y, z), the manoeuvres that correct it."""
+
+
+class FollowSetupError(SetupError):
+    """A path cannot be followed: a bad path, an unlearned manoeuvre, a bad grid or setting."""
+
+
+@dataclass(frozen=True, eq=False)
+class FollowSetup:
+    """Everything a path following needs, resolved and checked.
+
+    Attributes:
+        creature: the creature.
+        scene: the scene (fluid, grid).
+        path: the path, in world coordinates [m].
+        path_source: the file or shape it came from.
+        gaits: the manoeuvre library, ``{name: (spec, params, source)}``.
+        cycles: gait cycles swum.
+        period: the gait cycle T [s].
+        dead_band: the follower's ``eps`` [m].
+        blend: share of a cycle a switch blends over.
+        open_loop: swim straight only (to measure the drift).
+        fps: frames per second recorded.
+    """
+
+    creature: Creature
+    scene: Scene
+    path: Path
+    path_source: str
+    gaits: dict
+    cycles: int
+    period: float
+    dead_band: float
+    blend: float = BLEND
+    open_loop: bool = False
+    fps: float = FRAMES_PER_SECOND
+
+    @property
+    def seconds(self) -> float:
+        return self.cycles * self.period
+
+
+@dataclass(frozen=True, eq=False)
+class FollowRun:
+    """A finished path following: ``setup``, ``trajectory``, the follower's ``decisions``,
+    the root's ``distance`` to the path per frame [m], ``metrics`` and ``config``."""
+
+    setup: FollowSetup
+    trajectory: Trajectory
+    decisions: list
+    distance: np.ndarray
+    metrics: dict
+    config: dict
+    notes: tuple[str, ...] = field(default=())
+
+
+def prepare_follow(
+    name: str,
+    path,
+    cycles: int = DEFAULT_CYCLES,
+    learned=(),
+    resolution=None,
+    cell_size: float | None = None,
+    dead_band: float | None = None,
+    blend: float = BLEND,
+    open_loop: bool = False,
+    fps: float = FRAMES_PER_SECOND,
+    fluid: str = "euler",
+) -> FollowSetup:
+    """Resolve a path following: creature, manoeuvres, path, scene.
+
+    Args:
+        name: a library creature or the path of an MJCF file.
+        path: a CSV or JSON file of points [m], a ``NAME[:key=value,...]`` shape,
+            or an ``aquagait.path.Path``.
+        cycles: gait cycles to swim, >= 1.
+        learned: ``gait.json`` files (or ``aquagait optimize`` run directories)
+            of manoeuvres, added to (or replacing) the creature's shipped ones.
+        resolution, cell_size: the fluid grid; default the creature's, made
+            square in 2D (a turning creature needs room whichever way it faces).
+        dead_band: the rule's ``eps`` [m]; default a tenth of a body length.
+        blend: share of a cycle over which a switch blends, in [0, 1].
+        open_loop: swim the straight gait only, to measure the drift.
+        fps: frames per second recorded.
+        fluid: 'euler', 'simple' or 'none' (``aquagait.make_scene``).
+
+    Raises:
+        FollowSetupError: what is wrong and what would be right: the path (too
+            few points, not numbers, the wrong dimension, far from the start),
+            a manoeuvre the path needs that the creature has not learned (the
+            learned ones and the command that learns it), a bad grid or setting.
+    """
+    try:
+        creature = find_creature(name)
+    except SetupError as err:
+        raise FollowSetupError(str(err)) from None
+    if int(cycles) != cycles or cycles < 1:
+        raise FollowSetupError(f"cycles must be a whole number >= 1, got {cycles!r}")
+    if not 0 <= blend <= 1:
+        raise FollowSetupError(f"blend is a share of a cycle in [0, 1], got {blend!r}")
+    gaits = _library(creature, learned)
+    if resolution is None and creature.dim == 2:
+        resolution = (max(creature.resolution),) * 2
+    try:
+        scene = make_scene(creature, resolution=resolution, cell_size=cell_size, fluid=fluid)
+    except ValueError as err:
+        raise FollowSetupError(str(err)) from None
+    position, _ = root_pose(scene, init_state(scene).qpos)
+    length = creature.model.body_length
+    try:
+        path, source = _path(path, creature.dim, position)
+        path.check_start(position, length)
+    except PathError as err:
+        raise FollowSetupError(str(err)) from None
+    eps = DEAD_BAND * length if dead_band is None else float(dead_band)
+    if not eps >= 0:
+        raise FollowSetupError(f"dead band must be >= 0 m, got {dead_band!r}")
+    if not open_loop:
+        _check_learned(creature, gaits, path, position, eps)
+    spec, x, _ = gaits[STRAIGHT]
+    period = float(np.max(spec.unpack(x).period))
+    return FollowSetup(creature, scene, path, source, gaits, int(cycles), period, eps,
+                       float(blend), bool(open_loop), float(fps))  # fmt: skip
+
+
+def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
+    """Swim along the path, choosing a manoeuvre every cycle, and measure how close it kept.
+
+    Raises:
+        aquagait.sim.SimulationError: the simulation cannot go on.
+    """
+    creature, scene = setup.creature, setup.scene
+    library = {STRAIGHT: setup.gaits[STRAIGHT]} if setup.open_loop else setup.gaits
+    sines = {name: spec.unpack(x) for name, (spec, x, _) in library.items()}
+    follower = Follower(scene, sines, creature.servo, setup.path, setup.period,
+                        setup.dead_band, setup.blend)  # fmt: skip
+    trajectory = rollout(scene, init_state(scene), None, setup.seconds, fps=setup.fps,
+                         progress=progress, plan=follower)  # fmt: skip
+    positions = np.array([root_pose(scene, q)[0] for q in trajectory.qpos])
+    distance = np.array([setup.path.distance(p) for p in positions])
+    metrics = travel_metrics(creature.model, trajectory, setup.period)
+    length = creature.model.body_length
+    for label, value in (("mean", distance.mean()), ("max", distance.max()),
+                         ("final", distance[-1])):  # fmt: skip
+        metrics[f"path_distance_{label}"] = float(value)
+        metrics[f"path_distance_{label}_body_lengths"] = float(value / length)
+    unlearned = sum(d.unlearned for d in follower.decisions)
+    metrics["unlearned_requests"] = unlearned
+    notes = ()
+    if unlearned:
+        wanted = sorted({d.wanted for d in follower.decisions if d.unlearned})
+        notes = (f"{unlearned} cycle(s) asked for {', '.join(wanted)}, not learned: "
+                 "swum straight instead",)  # fmt: skip
+    config = follow_config(setup, trajectory)
+    return FollowRun(setup, trajectory, follower.decisions, distance, metrics, config, notes)
+
+
+def follow_config(setup: FollowSetup, trajectory: Trajectory) -> dict:
+    """Every resolved setting of a path following, for ``config.json``."""
+    creature, grid = setup.creature, setup.scene.grid
+    return {
+        "command": "follow",
+        "creature": creature.name,
+        "creature_source": creature_key(creature),
+        "dim": creature.dim,
+        "path": setup.path_source,
+        "path_points": len(setup.path.points),
+        "path_length": setup.path.length,
+        "maneuvers": {
+            name: {"names": list(spec.names), "params": x, "source": source}
+            for name, (spec, x, source) in setup.gaits.items()
+        },
+        "open_loop": setup.open_loop,
+        "cycles": setup.cycles,
+        "period": setup.period,
+        "seconds": setup.seconds,
+        "dead_band": setup.dead_band,
+        "blend": setup.blend,
+        "fluid": setup.scene.fluid.name,
+        "fluid_settings": setup.scene.fluid.settings(),
+        "density": setup.scene.density,
+        "resolution": None if grid is None else list(grid.shape),
+        "cell_size": None if grid is None else grid.cell_size,
+        "dt": trajectory.dt,
+        "fps": trajectory.fps,
+        "frames": len(trajectory.time),
+        "pd": {"natural_frequency": creature.natural_frequency, "damping": creature.damping_ratio},
+        "versions": library_versions(),
+        "created": datetime.now(UTC).isoformat(timespec="seconds"),
+    }
+
+
+def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> FilePath:
+    """Write the run directory: config.json, trajectory.npz, metrics.json, path.csv (the path),
+    maneuvers.csv (a row per cycle), path_distance.csv (a row per frame); with ``video`` also
+    swim.mp4 with the path drawn and follow.png, the creature's snapshots along the path.
+
+    Raises:
+        aquagait.viz.gl.RenderUnavailable: a 3D picture and no OpenGL; the run's
+            files are written, the message says what to install.
+    """
+    creature = run.setup.creature
+    out = write_run(out, run.trajectory, run.config, run.metrics, model=creature.model)
+    axes = "xyz"[: creature.dim]
+    _write_csv(out / "path.csv", [f"{a}_m" for a in axes], run.setup.path.points)
+    _write_csv(
+        out / "maneuvers.csv",
+        ["cycle", "time_s", "maneuver", "wanted"]
+        + [f"offset_{a}_m" for a in axes] + [f"tangent_{a}" for a in axes],
+        [[k, d.time, d.maneuver, d.wanted, *d.offset, *d.tangent]
+         for k, d in enumerate(run.decisions)],
+    )  # fmt: skip
+    _write_csv(out / "path_distance.csv", ["time_s", "distance_m"],
+               np.stack([run.trajectory.time, run.distance], axis=1))  # fmt: skip
+    if video:
+        from aquagait.viz.follow import draw_follow, render_follow
+
+        render_follow(run.trajectory, creature.model, run.setup.path.points, out / "swim.mp4",
+                      progress=progress)  # fmt: skip
+        draw_follow(run.trajectory, creature.model, run.setup.path.points, out / "follow.png",
+                    every=max(1, int(round(run.setup.period * run.trajectory.fps))))  # fmt: skip
+    return out
+
+
+def follow_summary(run: FollowRun, out=None) -> str:
+    """A few lines for people: how close it kept to the path, which manoeuvres it swam."""
+    m, setup = run.metrics, run.setup
+    mean, top, final = (m[f"path_distance_{k}_body_lengths"] for k in ("mean", "max", "final"))
+    counts = {}
+    for d in run.decisions:
+        counts[d.maneuver] = counts.get(d.maneuver, 0) + 1
+    mode = "open loop (straight only)" if setup.open_loop else "following"
+    lines = [
+        f"{setup.creature.name}, {mode}, {setup.cycles} cycles along {setup.path_source} "
+        f"({setup.path.length:.3g} m): distance to the path mean {mean:.2f}, max {top:.2f}, "
+        f"final {final:.2f} body lengths",
+        "manoeuvres: " + ", ".join(f"{k} x{v}" for k, v in counts.items()),
+        *run.notes,
+    ]
+    if out is not None:
+        files = sorted(p.name for p in FilePath(out).iterdir() if p.is_file())
+        lines.append(f"wrote {out}: {', '.join(files)}")
+    return "\n".join(lines)
+
+
+# --- what to follow, and with what -------------------------------------------
+
+
+def _path(path, dim: int, start) -> tuple[Path, str]:
+    """The path and a description of where it came from; shapes start at ``start``."""
+    if isinstance(path, Path):
+        if path.dim != dim:
+            raise PathError(f"a {path.dim}D path for a {dim}D creature")
+        return path, "a given path"
+    text = str(path)
+    name, _, arguments = text.partition(":")
+    if name in SHAPES:
+        parameters = {}
+        for item in filter(None, arguments.split(",")):
+            key, sep, value = item.partition("=")
+            try:
+                parameters[key.strip().replace("-", "_")] = _value(value)
+            except ValueError:
+                raise PathError(
+                    f"path shape {text!r}: give parameters as key=value, e.g. "
+                    "circle:radius=0.6 or s-curve:length=4,amplitude=0.5"
+                ) from None
+            if not sep:
+                raise PathError(f"path shape {text!r}: {item!r} is not key=value")
+        made = shape(name, dim=dim, **parameters)
+        return Path(made.points + np.asarray(start, dtype=float)), text
+    if not FilePath(text).exists() and "." not in FilePath(text).name:
+        raise PathError(
+            f"{text!r} is neither a path file nor a shape; shapes: {', '.join(SHAPES)} "
+            "(with parameters as NAME:key=value,...), or a CSV or JSON file of points"
+        )
+    return read_path(text, dim), text
+
+
+def _value(text: str):
+    text = text.strip()
+    if text.lower() in ("true", "false"):
+        return text.lower() == "true"
+    return float(text)
+
+
+def _library(creature: Creature, learned) -> dict:
+    """``{manoeuvre: (spec, params, source)}``: the shipped manoeuvres, then the learned files."""
+    gaits = {
+        name: (creature.spec(name), creature.maneuver_gait(name),
+               "shipped" if name != STRAIGHT or STRAIGHT in creature.gaits else "default")
+        for name in creature.maneuvers
+    }  # fmt: skip
+    for item in learned:
+        file = FilePath(item)
+        file = file / "gait.json" if file.is_dir() else file
+        try:
+            gait = read_gait(file, creature)
+        except GaitFileError as err:
+            raise FollowSetupError(str(err)) from None
+        gaits[gait.maneuver] = (creature.spec(gait.maneuver), gait.params, str(file))
+    return gaits
+
+
+def _check_learned(creature: Creature, gaits: dict, path: Path, start, eps: float) -> None:
+    """Refuse a path that needs manoeuvres the creature has not learned."""
+    spread = np.ptp(np.vstack([path.points, start]), axis=0)
+    if creature.dim == 2:
+        needed = NEEDED[1]  # in the plane every drift is corrected by turning
+    else:
+        needed = sum((NEEDED[axis] for axis in (1, 2) if spread[axis] > eps), ())
+    missing = [m for m in needed if m not in gaits]
+    if missing:
+        have = ", ".join(n for n in MANEUVERS if n in gaits)
+        learn = "; ".join(
+            f"aquagait optimize {creature.name} --maneuver {m} --out runs/{creature.name}-{m}"
+            for m in missing
+        )
+        raise FollowSetupError(
+            f"following this path needs {', '.join(missing)}, which {creature.name} has not "
+            f"learned (it has learned: {have}). Learn them with: {learn}; then pass the runs "
+            "with --learned"
+        )
+
+
+def _write_csv(path: FilePath, header: list, rows) -> None:
+    lines = [",".join(header)]
+    for row in rows:
+        lines.append(",".join(f"{v:.9g}" if isinstance(v, float | np.floating) else str(v)
+                              for v in row))  # fmt: skip
+    path.write_text("\n".join(lines) + "\n")
