@@ -102,7 +102,7 @@ def test_gait_files_that_do_not_fit_are_refused(tmp_path, eel):
         path.write_text(json.dumps({**data, **fields}))
         return path
 
-    with pytest.raises(GaitFileError, match=r"has 3 gait parameters; eel2d's straight gait has 8: amplitude\[j1\]"):
+    with pytest.raises(GaitFileError, match=r"has 3 gait parameters; eel2d's straight gait has 8"):
         read_gait(gait_file(names=["a", "b", "c"], params=[1, 2, 3]), eel)
     with pytest.raises(GaitFileError, match="is a gait for 'fish', not for 'eel2d'"):
         read_gait(gait_file(creature="fish"), eel)
@@ -122,6 +122,23 @@ def test_gait_files_that_do_not_fit_are_refused(tmp_path, eel):
         read_gait(tmp_path / "none.json", eel)
     with pytest.raises(GaitFileError, match="has 2 gait parameters"):
         write_gait(tmp_path / "w.json", eel, [1.0, 2.0])
+    with pytest.raises(GaitFileError, match="'maneuver' is 'loop'; manoeuvres are straight, "):
+        read_gait(gait_file(maneuver="loop"), eel)
+    # a turn's vector (offsets free: 12 numbers) under the straight gait's name is refused
+    with pytest.raises(GaitFileError, match="turn-left gait has 12"):
+        read_gait(gait_file(maneuver="turn-left"), eel)
+
+
+def test_a_manoeuvre_s_gait_file_says_which_and_is_read_in_its_parameterization(tmp_path, eel):
+    params = np.r_[eel.default_gait, [0.1, 0.2, 0.0, -0.1]]
+    path = write_gait(tmp_path / "gait.json", eel, params, "turn-left")
+    gait = read_gait(path, eel)
+    assert gait.maneuver == "turn-left" and gait.names == eel.spec("turn-left").names
+    np.testing.assert_array_equal(gait.params, params)
+    data = json.loads(path.read_text())
+    del data["maneuver"]  # a file without it is a straight gait
+    data.update(params=[0.1] * 8, names=list(eel.gait.names))
+    assert read_gait(_write(tmp_path / "old.json", json.dumps(data)), eel).maneuver == "straight"
 
 
 def _write(path, text):

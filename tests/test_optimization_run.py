@@ -110,3 +110,31 @@ def test_demo_finds_a_gait_that_swims_a_third_of_a_body_length_per_cycle(tmp_pat
     assert metrics["body_lengths_per_cycle_from_rest"] >= 0.3
     assert (tmp_path / "swim.mp4").stat().st_size > 0
     assert np.isfinite(metrics["strouhal"])
+
+
+def test_a_manoeuvre_is_searched_in_its_own_parameters_towards_its_own_goal(tmp_path):
+    """Paper §5: offsets freed, the desired direction half way to the turn, its axis
+    rewarded; the search starts from the straight gait and its gait file says which."""
+    setup = prepare_optimization("eel2d", generations=1, popsize=4, seed=1, fluid="none",
+                                 maneuver="turn-right", **COARSE)  # fmt: skip
+    eel, objective = setup.creature, setup.objective
+    assert setup.problem.names == eel.spec("turn-right").names
+    np.testing.assert_array_equal(setup.problem.x0[: eel.gait.size], eel.default_gait)
+    np.testing.assert_array_equal(setup.problem.x0[eel.gait.size :], 0.0)
+    np.testing.assert_allclose(objective.direction, np.array([1.0, -1.0]) / np.sqrt(2))
+    assert objective.axis == (0.0, 0.0, -1.0) and objective.maneuver == "turn-right"
+    assert setup.config()["maneuver"] == "turn-right"
+    bent = setup.problem.x0.copy()
+    bent[eel.gait.size] = 0.6  # j1 bent 0.6 rad plus its 0.25 rad swing: past its 45 degrees
+    assert setup.problem.feasible(setup.problem.x0) and not setup.problem.feasible(bent)
+    result = run_optimization(setup, run_dir=tmp_path)
+    from aquagait.app.optimize import best_swim, write_optimization
+
+    write_optimization(setup, result, tmp_path, plot=False)
+    assert json.loads((tmp_path / "gait.json").read_text())["maneuver"] == "turn-right"
+    assert best_swim(setup, tmp_path).maneuver == "turn-right"
+
+
+def test_a_2d_creature_cannot_learn_a_pitch():
+    with pytest.raises(OptimizationSetupError, match="'pitch-up' is for 3D creatures"):
+        prepare_optimization("eel2d", maneuver="pitch-up", fluid="none", **COARSE)

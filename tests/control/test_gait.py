@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from aquagait.control import GaitSpec
+from aquagait.control import GaitSpec, SwitchedGait
 
 DOFS = ("j1", "j2", "j3")
 
@@ -145,3 +145,69 @@ def test_non_positive_period_is_refused():
     spec = GaitSpec(dofs=("j1",), free=("period",), bounds={"period": (0.1, 2)})
     with pytest.raises(ValueError, match="periods must be > 0"):
         spec.unpack([0.0])
+
+
+# --- a manoeuvre's parameters, and switching between gaits (paper §5) ------------
+
+TIMES = np.linspace(0.0, 2.0, 41)
+
+
+def _angles(gait, times=TIMES):
+    return np.array([gait.angles(t) for t in times])
+
+
+def test_vector_is_unpack_s_inverse_and_folds_a_negative_amplitude_into_the_phase():
+    spec = GaitSpec(dofs=("a", "b", "c"), free=("amplitude", "phase", "offset"))
+    x = np.array([0.2, 0.3, 0.4, -2.0, 0.5, 3.0, 0.1, -0.2, 0.0])
+    np.testing.assert_allclose(spec.vector(spec.unpack(x)), x)
+    mirrored = spec.unpack(x).mirrored()  # negative amplitudes
+    y = spec.vector(mirrored)
+    assert np.all(spec.unpack(y).amplitude >= 0)
+    assert np.all((-np.pi <= y[3:6]) & (y[3:6] < np.pi))
+    np.testing.assert_allclose(_angles(spec.unpack(y)), _angles(mirrored), atol=1e-12)
+
+
+def test_vector_refuses_a_gait_of_other_dofs():
+    with pytest.raises(ValueError, match="drives"):
+        GaitSpec(dofs=("a",)).vector(GaitSpec(dofs=("b",)).unpack([0.1, 0.0]))
+
+
+def _pair():
+    spec = GaitSpec(dofs=("a", "b"), free=("amplitude", "phase", "offset"))
+    return spec.unpack([0.3, 0.5, 0.0, 1.0, 0.0, 0.0]), spec.unpack(
+        [0.4, 0.2, 2.0, -1.0, 0.3, -0.2]
+    )
+
+
+def test_a_switch_is_the_old_gait_before_and_the_new_one_after():
+    before, after = _pair()
+    switch = SwitchedGait(before, after, start=0.5, duration=0.25)
+    early, late = TIMES[TIMES <= 0.5], TIMES[TIMES >= 0.75]
+    np.testing.assert_allclose(_angles(switch, early), _angles(before, early), atol=1e-15)
+    np.testing.assert_allclose(_angles(switch, late), _angles(after, late), atol=1e-15)
+    assert switch.dofs == ("a", "b")
+
+
+def test_a_switch_neither_jumps_the_angles_nor_their_rates():
+    """Sampled every 0.1 ms across the hand-over, no step exceeds what the rates allow."""
+    before, after = _pair()
+    switch = SwitchedGait(before, after, start=0.5, duration=0.25)
+    times = np.arange(0.45, 0.8, 1e-4)
+    angles = _angles(switch, times)
+    rates = np.array([switch.rates(t) for t in times])
+    central = (angles[2:] - angles[:-2]) / 2e-4
+    smooth = (np.abs(times[1:-1] - 0.5) > 2e-4) & (np.abs(times[1:-1] - 0.75) > 2e-4)
+    # rates are the derivative (away from the blend's ends, where the second derivative jumps)
+    np.testing.assert_allclose(central[smooth], rates[1:-1][smooth], atol=1e-5)
+    assert np.abs(np.diff(rates, axis=0)).max() < 1e-2  # and continuous: no kink
+
+
+def test_a_switch_of_no_duration_jumps_and_bad_switches_are_refused():
+    before, after = _pair()
+    jump = SwitchedGait(before, after, start=0.5, duration=0.0)
+    np.testing.assert_allclose(jump.angles(0.5), after.angles(0.5))
+    np.testing.assert_allclose(jump.angles(0.4999), before.angles(0.4999))
+    with pytest.raises(ValueError, match="same DOFs"):
+        SwitchedGait(before, GaitSpec(dofs=("b", "a")).unpack([0.1] * 4), 0.0, 0.1)
+    with pytest.raises(ValueError, match="duration"):
+        SwitchedGait(before, after, 0.0, -1.0)

@@ -247,7 +247,7 @@ class GaitSpec:
         """The parameter vector that drives ``gait``: ``unpack``'s inverse.
 
         A negative amplitude is written as its size with the phase turned by
-        pi (the same sine), phases wrapped into [-pi, pi). A shared kind takes
+        pi (the same sine), that phase wrapped into [-pi, pi). A shared kind takes
         the first DOF's value and mirrored DOFs are not read, so the vector
         drives ``gait`` exactly only where this parameterization can express it.
         """
@@ -256,7 +256,7 @@ class GaitSpec:
         flip = gait.amplitude < 0
         values = {
             "amplitude": np.abs(gait.amplitude),
-            "phase": (gait.phase + np.pi * flip + np.pi) % (2 * np.pi) - np.pi,
+            "phase": np.where(flip, (gait.phase + 2 * np.pi) % (2 * np.pi) - np.pi, gait.phase),
             "period": gait.period,
             "offset": gait.offset,
         }

@@ -1,0 +1,92 @@
+"""The follower as a planner: when it decides, what it hands the servo, what it records.
+
+In a vacuum (fluid 'none') the eel hardly moves, so the path's place alone
+decides: these are the rule's answers seen through a real rollout.
+"""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import aquagait as ag
+from aquagait.path import Follower, Path, root_pose
+
+EEL = ag.creatures.get("eel2d")
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return ag.make_scene(EEL, fluid="none")
+
+
+def _library(maneuvers=("straight", "turn-left", "turn-right")):
+    straight = EEL.gait.unpack(EEL.default_gait)
+    offsets = {"straight": 0.0, "turn-left": 0.2, "turn-right": -0.2}
+    return {
+        m: EEL.spec("turn-left").unpack(np.r_[EEL.default_gait, [offsets[m]] * 4])
+        if m != "straight" else straight
+        for m in maneuvers
+    }  # fmt: skip
+
+
+def _follow(scene, path, seconds=3.0, maneuvers=("straight", "turn-left", "turn-right")):
+    handed = []
+
+    def servo(gait):
+        handed.append(gait)
+        return EEL.servo(gait)
+
+    follower = Follower(scene, _library(maneuvers), servo, path, period=1.0, dead_band=0.05)
+    ag.rollout(scene, ag.init_state(scene), None, seconds, plan=follower)
+    return follower, handed
+
+
+def _line(scene, side):
+    """A line parallel to the eel's axis, ``side`` metres to its left."""
+    start, _ = root_pose(scene, ag.init_state(scene).qpos)
+    return Path(np.array([[-1.0, side], [5.0, side]]) + [0.0, start[1]])
+
+
+@pytest.mark.parametrize("side, expected", [(0.3, "turn-left"), (-0.3, "turn-right"),
+                                            (0.0, "straight"), (0.03, "straight")])  # fmt: skip
+def test_it_decides_once_a_cycle_by_the_rule(scene, side, expected):
+    follower, handed = _follow(scene, _line(scene, side))
+    assert [d.time for d in follower.decisions] == [0.0, 1.0, 2.0]
+    assert {d.maneuver for d in follower.decisions} == {expected}
+    assert len(handed) == 3
+    first = follower.decisions[0]
+    np.testing.assert_allclose(first.offset[1], side, atol=1e-9)  # the path, in the root frame
+    np.testing.assert_allclose(first.tangent, [1.0, 0.0], atol=1e-9)
+
+
+def test_a_change_of_manoeuvre_blends_from_the_last_one_over_a_quarter_cycle(scene):
+    handed = []
+    servo = lambda gait: handed.append(gait) or EEL.servo(gait)  # noqa: E731
+    lib = _library()
+    follower = Follower(scene, lib, servo, _line(scene, 0.3), period=1.0, dead_band=0.05)
+    state = ag.init_state(scene)
+    first = follower(state)
+    assert follower(replace(state, time=0.5)) is first  # no decision within a cycle
+    follower.path = _line(scene, -0.3)  # the path jumps to the right
+    follower(replace(state, time=1.0))
+    assert [d.maneuver for d in follower.decisions] == ["turn-left", "turn-right"]
+    assert handed[0].before is lib["turn-left"] and handed[0].after is lib["turn-left"]
+    switch = handed[1]
+    assert switch.before is lib["turn-left"] and switch.after is lib["turn-right"]
+    assert (switch.start, switch.duration) == (1.0, 0.25)
+
+
+def test_an_unlearned_manoeuvre_is_swum_straight_and_recorded(scene):
+    follower, _ = _follow(scene, _line(scene, 0.3), seconds=1.0, maneuvers=("straight",))
+    (decision,) = follower.decisions
+    assert (decision.maneuver, decision.wanted, decision.unlearned) == (
+        "straight", "turn-left", True)  # fmt: skip
+
+
+def test_a_follower_needs_a_straight_gait_and_a_path_of_its_dimension(scene):
+    with pytest.raises(ValueError, match="straight gait"):
+        Follower(scene, {"turn-left": _library()["turn-left"]}, EEL.servo,
+                 _line(scene, 0.0), 1.0, 0.05)  # fmt: skip
+    with pytest.raises(ValueError, match="3D path for a 2D creature"):
+        Follower(scene, _library(), EEL.servo, Path(np.eye(3)), 1.0, 0.05)
