@@ -132,6 +132,17 @@ def test_a_turn_is_rewarded_about_its_axis_and_not_counted_as_deviation(eel):
     assert obj.deviation(eel.model, traj, (1, 0)) == pytest.approx(0.3)  # straight: all of it
 
 
+def test_a_turn_is_rewarded_up_to_a_quarter_turn_and_no_further(eel):
+    """Spinning on the spot earns no more than turning 90 degrees (``TURN``)."""
+    path = np.zeros((2, eel.model.nq))
+    left = obj.maneuver_goal("turn-left", 2)[1]
+    for turned, reward in ((1.0, -1.0), (np.pi / 2, -np.pi / 2), (4.1, -np.pi / 2)):
+        path[1, 2] = turned
+        assert obj.turning(eel.model, trajectory(path), left) == pytest.approx(reward)
+    path[1, 2] = -4.1  # the other way round: no cap on the penalty
+    assert obj.turning(eel.model, trajectory(path), left) == pytest.approx(4.1)
+
+
 def test_pitching_up_turns_the_nose_up_and_only_unwanted_rotation_deviates():
     fish = ag.creatures.get("fish").model
     path = np.tile(fish.qpos0, (2, 1))

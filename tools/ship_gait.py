@@ -4,6 +4,7 @@ creature's side-car (``src/aquagait/creatures/NAME.aquagait.json``), with its pr
 Run from the repository root::
 
     python tools/ship_gait.py runs/turtle2d-opt [--as straight]
+    python tools/ship_gait.py runs/eel2d-turn-left      # a manoeuvre ships as its name
 
 The run directory's ``gait.json`` (the best sample), ``config.json`` (the
 optimization's settings: seed, grid, population, generations, the fluid's
@@ -23,6 +24,8 @@ import shlex
 from datetime import UTC, datetime
 from pathlib import Path
 
+import numpy as np
+
 CREATURES = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures"
 
 
@@ -40,12 +43,16 @@ def provenance(run: Path) -> dict:
     }
     command = ["aquagait", "optimize", opt["creature"], "--generations", str(opt["generations"]),
                "--seed", str(opt["seed"]), "--popsize", str(opt["popsize"])]  # fmt: skip
+    if opt.get("maneuver", "straight") != "straight":
+        command += ["--maneuver", opt["maneuver"]]
     if opt["resolution"] is not None:  # None: the creature's default grid, as the swim's
         command += ["--resolution", *map(str, opt["resolution"])]
+    if opt["cell_size"] is not None:
         command += ["--cell-size", f"{opt['cell_size']:g}"]
     metrics = json.loads((run / "metrics.json").read_text())
     return {
         "method": "optimized",
+        "maneuver": opt.get("maneuver", "straight"),
         "command": shlex.join(command),
         "seed": opt["seed"],
         "generations": len({row["generation"] for row in rows}),
@@ -55,13 +62,30 @@ def provenance(run: Path) -> dict:
         "objective": float(rows[-1]["best"]),
         "wall_time": round(float(rows[-1]["elapsed"])),
         "body_lengths_per_cycle_from_rest": metrics.get("body_lengths_per_cycle_from_rest"),
+        "rotation_vector": turned(run),
         "aquagait": config.get("versions", {}).get("aquagait"),
         "date": datetime.now(UTC).date().isoformat(),
     }
 
 
-def ship(run: Path, name: str) -> Path:
+def turned(run: Path) -> list[float]:
+    """The root's rotation over the best gait's swim, a world rotation vector [rad]
+    (z: yawed left; -y: pitched up; in 2D the hinge angle's change, however far it went)."""
+    from scipy.spatial.transform import Rotation
+
+    with np.load(run / "trajectory.npz") as data:
+        first, last = data["root_rotation"][0], data["root_rotation"][-1]
+        qpos = data["qpos"]
+    if json.loads((run / "config.json").read_text())["dim"] == 2:  # unwrapped, past pi
+        return [0.0, 0.0, round(float(qpos[-1, 2] - qpos[0, 2]), 4)]
+    return [round(float(v), 4) for v in Rotation.from_matrix(last @ first.T).as_rotvec()]
+
+
+def ship(run: Path, name: str | None) -> Path:
+    """Copy the run's gait into its creature's side-car as ``name`` (default: the gait's
+    manoeuvre: ``straight``, ``turn-left``, ...)."""
     gait = json.loads((run / "gait.json").read_text())
+    name = name or gait.get("maneuver", "straight")
     sidecar = CREATURES / f"{gait['creature']}.aquagait.json"
     meta = json.loads(sidecar.read_text())
     params = dict(zip(gait["names"], gait["params"], strict=True))
@@ -86,6 +110,6 @@ def _dumps(obj) -> str:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run", type=Path, help="a finished aquagait optimize run directory")
-    parser.add_argument("--as", dest="name", default="straight", help="the gait's name")
+    parser.add_argument("--as", dest="name", help="the gait's name (default: its manoeuvre)")
     args = parser.parse_args()
     print(f"wrote {ship(args.run, args.name)}")

@@ -20,11 +20,15 @@ Over a run of (by default) two gait cycles, minimized:
   volume is a snapshot per sampled frame, so it is integrated by the
   trapezoid rule over the sampled frames' times (the last frame included).
 
-A manoeuvre (paper §5, DESIGN.md §2.5: ``MANEUVERS``) adds ``E_turn = -r .
-dtheta``, the root's rotation vector ``dtheta`` along the desired axis ``r``
-negated [rad], with the desired direction ``d`` half way to the turn, and
-its ``E_deviation`` counts only the unwanted rotation,
-``|dtheta - (r . dtheta) r|``.
+A manoeuvre (paper §5, DESIGN.md §2.5: ``MANEUVERS``) adds ``E_turn =
+-min(r . dtheta, TURN)``, the root's rotation vector ``dtheta`` along the
+desired axis ``r`` negated [rad], with the desired direction ``d`` half way
+to the turn, and its ``E_deviation`` counts only the unwanted rotation,
+``|dtheta - (r . dtheta) r|``. The reward stops at ``TURN`` (90 degrees over
+the run, twice the angle to ``d``): uncapped, rotation in radians outweighs
+distance in metres and the search finds gaits that spin on the spot (the
+eel learned to turn 4.1 rad in two cycles and went backwards), which no
+path can be followed with.
 
 Each term is a function of a ``Trajectory``; weights and direction are
 ``Weights`` and an argument. The units mix, as in the paper: the weights
@@ -83,6 +87,11 @@ direction) and axis of rotation ``r`` (None: no turn wanted), for a creature tha
 with z up. Pitching up turns the nose (+x) towards +z: a rotation about -y."""
 
 
+TURN = np.pi / 2
+"""The rotation a manoeuvre is rewarded for over its run, at most [rad]: twice the angle
+between facing +x and its desired direction ``d``."""
+
+
 def maneuver_goal(name: str, dim: int) -> tuple[np.ndarray, np.ndarray | None]:
     """``(d, r)`` of the manoeuvre ``name`` in ``dim`` dimensions (``MANEUVERS``).
 
@@ -115,9 +124,10 @@ def root_rotation(model: Model, traj: Trajectory) -> float:
     return float(np.linalg.norm(rotation_vector(model, traj)))
 
 
-def turning(model: Model, traj: Trajectory, axis) -> float:
-    """``E_turn = -r . dtheta`` [rad]: more negative is more rotation about the axis ``r``."""
-    return -float(np.asarray(axis, dtype=float) @ rotation_vector(model, traj))
+def turning(model: Model, traj: Trajectory, axis, limit: float = TURN) -> float:
+    """``E_turn = -min(r . dtheta, limit)`` [rad]: more negative is more rotation about the
+    axis ``r``, up to ``limit``."""
+    return -min(float(np.asarray(axis, dtype=float) @ rotation_vector(model, traj)), limit)
 
 
 def distance(model: Model, traj: Trajectory, direction) -> float:
