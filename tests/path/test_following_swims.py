@@ -1,0 +1,48 @@
+"""Following paths in water with the shipped manoeuvres (paper §5; slow: ``-m slow``).
+
+Run with ``python3 -m pytest -m slow tests/path/test_following_swims.py -s`` to
+see the figures of the issue: the eel on a circle and an S-curve, the 2D
+turtle open-loop and following a straight line, the manta on a vertical S.
+"""
+
+import numpy as np
+import pytest
+
+from aquagait.app.follow import prepare_follow, run_follow
+
+pytestmark = pytest.mark.slow
+
+
+def _follow(name, path, cycles, **options):
+    run = run_follow(prepare_follow(name, path, cycles=cycles, **options))
+    m = run.metrics
+    counts = {}
+    for d in run.decisions:
+        counts[d.maneuver] = counts.get(d.maneuver, 0) + 1
+    print(f"{name} {'open loop' if options.get('open_loop') else 'following'} {path}, "
+          f"{cycles} cycles: distance to the path mean {m['path_distance_mean_body_lengths']:.3f}"
+          f", max {m['path_distance_max_body_lengths']:.3f}, final "
+          f"{m['path_distance_final_body_lengths']:.3f} body lengths; {counts}; swam "
+          f"{m['distance']:.2f} m")  # fmt: skip
+    return m
+
+
+@pytest.mark.parametrize("path", ["circle:radius=0.6", "s-curve:length=3,amplitude=0.4"])
+def test_the_eel_follows_a_circle_and_an_s_curve_within_half_a_body_length(path):
+    m = _follow("eel2d", path, 12)
+    assert m["path_distance_mean_body_lengths"] < 0.5
+    assert m["distance"] > 1.0  # it went along, not round in place: 2 body lengths at least
+
+
+def test_the_turtle_drifts_open_loop_and_holds_a_line_when_following():
+    drift = _follow("turtle2d", "line:length=10", 10, open_loop=True)
+    held = _follow("turtle2d", "line:length=10", 10)
+    assert drift["path_distance_final_body_lengths"] > 0.5  # paper: it cannot swim straight
+    assert held["path_distance_mean_body_lengths"] < 0.25
+    assert held["path_distance_max_body_lengths"] < 0.5
+
+
+def test_the_manta_follows_a_vertical_s():
+    m = _follow("manta", "s-curve:length=3,amplitude=0.3,vertical=true", 12)
+    assert m["path_distance_mean_body_lengths"] < 0.5
+    assert np.isfinite(m["path_distance_max_body_lengths"])
