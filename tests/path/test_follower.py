@@ -11,6 +11,7 @@ import pytest
 
 import aquagait as ag
 from aquagait.path import Follower, Path, root_pose
+from aquagait.path.follower import LEAD, lead, mean_rotation
 
 EEL = ag.creatures.get("eel2d")
 
@@ -90,3 +91,19 @@ def test_a_follower_needs_a_straight_gait_and_a_path_of_its_dimension(scene):
                  _line(scene, 0.0), 1.0, 0.05)  # fmt: skip
     with pytest.raises(ValueError, match="3D path for a 2D creature"):
         Follower(scene, _library(), EEL.servo, Path(np.eye(3)), 1.0, 0.05)
+
+
+def _about_z(angle):
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def test_the_heading_is_the_cycle_s_mean_carried_on_by_half_its_turn():
+    """A head swaying +-10 degrees about a heading of 30 averages to 30; a heading that
+    went from 20 to 30 degrees over a cycle is carried on to 35 (``LEAD``: half a cycle)."""
+    sway = [_about_z(np.radians(30 + 10 * np.sin(a))) for a in np.linspace(0, 2 * np.pi, 31)]
+    np.testing.assert_allclose(mean_rotation(sway), _about_z(np.radians(30)), atol=1e-12)
+    ahead = lead(_about_z(np.radians(20)), _about_z(np.radians(30)), LEAD)
+    np.testing.assert_allclose(ahead, _about_z(np.radians(35)), atol=1e-12)
+    tilted = _about_z(0.3) @ np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0.0]])  # about x too
+    np.testing.assert_allclose(lead(tilted, tilted, 0.5), tilted, atol=1e-12)

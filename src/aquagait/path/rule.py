@@ -12,7 +12,12 @@ of correction (y: turning, z: pitching) applies the paper's rule:
   (``p_y > eps`` and ``d_y < -eps``): the creature is already closing in, so
   swim straight;
 - the path lies within the dead band ``eps`` (``|p_y| <= eps``): straight, so
-  that small deviations do not make the creature dither between turns.
+  that small deviations do not make the creature dither between turns;
+  unless the path leaves the heading by more than ``ALIGN`` there
+  (``|d_y| > sin 30 deg``): then turn towards the path's direction. This last
+  case is ours: the paper's rule says nothing of the heading on the path,
+  and an eel that met an S-curve 50 degrees off its tangent swam straight
+  across it.
 
 The same for z with pitch-up and pitch-down. Where both axes ask for a
 correction (3D), the larger offset wins.
@@ -26,6 +31,9 @@ from aquagait import objectives
 
 STRAIGHT = "straight"
 MANEUVERS = tuple(objectives.MANEUVERS)
+ALIGN = 0.5
+"""On the path (within the dead band), the tangent's sideways component beyond which the
+creature turns to align with it: sin 30 degrees."""
 _TOWARDS = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
 """Per root-frame axis, the manoeuvres towards its + and - side."""
 
@@ -66,4 +74,6 @@ def choose_maneuver(offset, tangent, dead_band: float) -> str:
             wanted.append((p, positive))
         elif p < -eps and d < eps:
             wanted.append((-p, negative))
+        elif abs(p) <= eps and abs(d) > ALIGN:
+            wanted.append((0.0, positive if d > 0 else negative))
     return max(wanted)[1] if wanted else STRAIGHT
