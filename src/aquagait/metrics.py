@@ -65,6 +65,16 @@ UNITS = {
     "steady_body_lengths_per_cycle": "1",
     "tail_amplitude": "m",
     "strouhal": "1",
+    # following a path (aquagait.app.follow): the root's distance to it per frame
+    "path_distance_mean": "m",
+    "path_distance_max": "m",
+    "path_distance_final": "m",
+    "path_distance_mean_body_lengths": "1",
+    "path_distance_max_body_lengths": "1",
+    "path_distance_final_body_lengths": "1",
+    "path_progress": "m",
+    "path_progress_body_lengths": "1",
+    "unlearned_requests": "1",
 }
 """The unit of each entry of ``swim_metrics``'s result."""
 

@@ -97,15 +97,13 @@ def test_bad_paths_say_what_is_wrong(tmp_path, learned, path, message):
         _follow(path, learned)
 
 
-def test_a_path_needs_the_turns_the_creature_has_learned(learned):
+def test_a_path_needs_the_turns_the_creature_has_learned():
     with pytest.raises(FollowSetupError) as err:
-        _follow("line", learned[:1])
+        prepare_follow("accordion2d", "line", fluid="none")
     text = str(err.value)
-    assert (
-        "needs turn-right, which eel2d has not learned (it has learned: straight, turn-left)"
-        in text
-    )
-    assert "aquagait optimize eel2d --maneuver turn-right" in text
+    assert "needs turn-left, turn-right, which accordion2d has not learned" in text
+    assert "(it has learned: straight)" in text
+    assert "aquagait optimize accordion2d --maneuver turn-right" in text
     assert "--learned" in text
 
 
@@ -125,5 +123,5 @@ def test_bad_settings_are_refused(learned, options, message):
 
 
 def test_the_command_line_fails_with_status_2_and_the_reason(tmp_path, capsys):
-    assert main(["follow", "eel2d", "--path", "circle", "--out", str(tmp_path / "x")]) == 2
+    assert main(["follow", "accordion2d", "--path", "circle", "--out", str(tmp_path / "x")]) == 2
     assert "has not learned" in capsys.readouterr().err

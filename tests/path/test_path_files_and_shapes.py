@@ -88,3 +88,12 @@ def test_bad_files_shapes_and_far_paths(tmp_path):
     far = line().points + [0.0, 3.0]
     with pytest.raises(PathError, match=r"passes 3 m \(6.0 body lengths\).*move the path by"):
         Path(far).check_start([0.0, 0.0], body_length=0.5)
+
+
+def test_progress_is_the_arc_length_to_the_nearest_point():
+    corner = Path(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]))
+    assert corner.progress([0.5, 0.2]) == pytest.approx(0.5)
+    assert corner.progress([2.0, 0.5]) == pytest.approx(1.5)  # beside the second leg
+    assert corner.progress([-1.0, 0.0]) == 0.0 and corner.progress([1.0, 3.0]) == 2.0
+    ring = circle(radius=1.0)
+    assert ring.progress([1.2, 1.0]) == pytest.approx(np.pi / 2, rel=1e-3)  # a quarter round

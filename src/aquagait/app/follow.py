@@ -200,6 +200,9 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
                          ("final", distance[-1])):  # fmt: skip
         metrics[f"path_distance_{label}"] = float(value)
         metrics[f"path_distance_{label}_body_lengths"] = float(value / length)
+    progress = setup.path.progress(positions[-1])
+    metrics["path_progress"] = progress
+    metrics["path_progress_body_lengths"] = progress / length
     unlearned = sum(d.unlearned for d in follower.decisions)
     metrics["unlearned_requests"] = unlearned
     notes = ()
@@ -289,7 +292,7 @@ def follow_summary(run: FollowRun, out=None) -> str:
     lines = [
         f"{setup.creature.name}, {mode}, {setup.cycles} cycles along {setup.path_source} "
         f"({setup.path.length:.3g} m): distance to the path mean {mean:.2f}, max {top:.2f}, "
-        f"final {final:.2f} body lengths",
+        f"final {final:.2f} body lengths; {m['path_progress']:.3g} m along it",
         "manoeuvres: " + ", ".join(f"{k} x{v}" for k, v in counts.items()),
         *run.notes,
     ]

@@ -78,12 +78,26 @@ class Path:
         if position.shape != (self.dim,):
             raise PathError(f"a {self.dim}D path is followed from {self.dim}D positions; "
                             f"got {position.shape}")  # fmt: skip
+        k, t = self._foot(position)
+        step = self.points[k + 1] - self.points[k]
+        return self.points[k] + t * step, step / np.linalg.norm(step)
+
+    def _foot(self, position) -> tuple[int, float]:
+        """The segment ``k`` holding the point nearest ``position`` (the later one where two
+        are equally near) and where on it, ``t`` in [0, 1]."""
+        position = np.asarray(position, dtype=float)
         start, step = self.points[:-1], np.diff(self.points, axis=0)
         t = np.clip(((position - start) * step).sum(1) / (step * step).sum(1), 0.0, 1.0)
-        foot = start + t[:, None] * step
-        distance = np.linalg.norm(foot - position, axis=1)
+        distance = np.linalg.norm(start + t[:, None] * step - position, axis=1)
         k = len(distance) - 1 - int(np.argmin(distance[::-1]))
-        return foot[k], step[k] / np.linalg.norm(step[k])
+        return k, float(t[k])
+
+    def progress(self, position) -> float:
+        """How far along the path [m] its point nearest ``position`` (dim,) [m] lies (the
+        same point as ``nearest``)."""
+        k, t = self._foot(position)
+        lengths = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
+        return float(lengths[:k].sum() + t * lengths[k])
 
     def distance(self, position) -> float:
         """How far ``position`` (dim,) [m] is from the path [m]."""
