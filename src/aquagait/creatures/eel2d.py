@@ -23,6 +23,12 @@ hinges j1..j4 about z between consecutive links, limits +-45 deg (0.785 rad).
 Gait (8 parameters; period 1 s and offset 0 fixed; amplitude bounds: the
 joint limits, the default). Shipped ``straight`` gait (hand-set): a travelling
 wave, 1.5 rad of phase lag per joint, amplitude growing towards the tail.
+Also shipped: ``optimized`` (a straight gait found by ``aquagait optimize``,
+0.71 body lengths per cycle from rest) and the learned manoeuvres
+``turn-left`` and ``turn-right`` (12 parameters: the offsets freed, within
++-0.5 rad; ``aquagait optimize eel2d --maneuver turn-left --resolution 96
+96``, 30 generations of 16), which turn 89 and 121 degrees over two cycles
+from rest and let it follow paths (``aquagait follow``).
 
 ====  ==================  ===============  =======  ==============
 DOF   amplitude bounds    phase bounds     default  default phase
