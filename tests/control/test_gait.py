@@ -211,3 +211,26 @@ def test_a_switch_of_no_duration_jumps_and_bad_switches_are_refused():
         SwitchedGait(before, GaitSpec(dofs=("b", "a")).unpack([0.1] * 4), 0.0, 0.1)
     with pytest.raises(ValueError, match="duration"):
         SwitchedGait(before, after, 0.0, -1.0)
+
+
+def test_held_dofs_only_hold_an_offset():
+    spec = GaitSpec(dofs=("a", "b", "rudder"), free=("amplitude", "phase", "offset"),
+                    held=("rudder",))  # fmt: skip
+    assert spec.names == ("amplitude[a]", "amplitude[b]", "phase[a]", "phase[b]", "offset[a]",
+                          "offset[b]", "offset[rudder]")  # fmt: skip
+    gait = spec.unpack([0.3, 0.4, 0.0, 1.0, 0.1, 0.0, -0.2])
+    assert gait.amplitude[2] == 0.0 and gait.offset[2] == -0.2
+    np.testing.assert_allclose([gait.angles(t)[2] for t in (0.0, 0.3, 0.7)], -0.2)
+    np.testing.assert_array_equal(spec.vector(gait), [0.3, 0.4, 0.0, 1.0, 0.1, 0.0, -0.2])
+    with pytest.raises(ValueError, match="held DOFs"):
+        GaitSpec(dofs=("a",), held=("b",))
+
+
+def test_a_gait_on_more_dofs_holds_the_others_at_rest():
+    gait = GaitSpec(dofs=("a", "b")).unpack([0.3, 0.4, 0.0, 1.0])
+    wider = gait.on(("c", "b", "a"))
+    assert wider.dofs == ("c", "b", "a")
+    for t in (0.0, 0.25, 0.6):
+        np.testing.assert_allclose(wider.angles(t), [0.0, *gait.angles(t)[::-1]])
+    with pytest.raises(ValueError, match="not among"):
+        gait.on(("a",))

@@ -95,3 +95,16 @@ def test_an_unlearned_manoeuvre_says_what_is_learned_and_how_to_learn_it():
         eel.maneuver_gait("turn-right")
     assert "accordion2d has not learned 'turn-right'; it has learned straight" in str(err.value)
     assert "aquagait optimize accordion2d --maneuver turn-right" in str(err.value)
+
+
+def test_a_dof_the_straight_gait_holds_at_rest_becomes_a_rudder():
+    """The 2D turtle's rear flipper trails when it swims straight (not in its gait); a
+    manoeuvre may set it at an angle, as a turtle steers with its rear flippers."""
+    turtle = ag.creatures.get("turtle2d")
+    assert "rear_hip" not in turtle.gait.dofs
+    spec = turtle.spec("turn-left")
+    assert spec.held == ("rear_hip", "rear_knee")
+    assert spec.names[-2:] == ("offset[rear_hip]", "offset[rear_knee]")
+    assert "amplitude[rear_hip]" not in spec.names
+    lower, upper = turtle.gait_limits("turn-left")
+    assert len(lower) == 4 and spec.upper[-1] == min(upper[-1], 0.5)

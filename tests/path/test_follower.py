@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import aquagait as ag
+from aquagait.control import GaitSpec
 from aquagait.path import Follower, Path, root_pose
 from aquagait.path.follower import LEAD, lead, mean_rotation
 
@@ -72,9 +73,10 @@ def test_a_change_of_manoeuvre_blends_from_the_last_one_over_a_quarter_cycle(sce
     follower.path = _line(scene, -0.3)  # the path jumps to the right
     follower(replace(state, time=1.0))
     assert [d.maneuver for d in follower.decisions] == ["turn-left", "turn-right"]
-    assert handed[0].before is lib["turn-left"] and handed[0].after is lib["turn-left"]
+    left, right = lib["turn-left"].offset, lib["turn-right"].offset
+    assert np.all(handed[0].before.offset == left) and np.all(handed[0].after.offset == left)
     switch = handed[1]
-    assert switch.before is lib["turn-left"] and switch.after is lib["turn-right"]
+    assert np.all(switch.before.offset == left) and np.all(switch.after.offset == right)
     assert (switch.start, switch.duration) == (1.0, 0.25)
 
 
@@ -107,3 +109,16 @@ def test_the_heading_is_the_cycle_s_mean_carried_on_by_half_its_turn():
     np.testing.assert_allclose(ahead, _about_z(np.radians(35)), atol=1e-12)
     tilted = _about_z(0.3) @ np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0.0]])  # about x too
     np.testing.assert_allclose(lead(tilted, tilted, 0.5), tilted, atol=1e-12)
+
+
+def test_gaits_over_different_dofs_are_all_driven_over_every_one(scene):
+    """A manoeuvre with a rudder drives DOFs the straight gait leaves at rest."""
+    lib = _library()
+    straight = GaitSpec(dofs=("j1", "j2")).unpack([0.2, 0.3, 0.0, -1.0])  # the rest held at 0
+    handed = []
+    servo = lambda gait: handed.append(gait) or EEL.servo(gait)  # noqa: E731
+    follower = Follower(scene, {**lib, "straight": straight}, servo, _line(scene, 0.0), 1.0, 0.05)
+    follower(ag.init_state(scene))
+    (switch,) = handed
+    assert switch.dofs == ("j1", "j2", "j3", "j4")
+    np.testing.assert_allclose(switch.angles(0.3), [*straight.angles(0.3), 0.0, 0.0])

@@ -110,7 +110,7 @@ class JointLimits:
     def __call__(self, params) -> bool:
         creature = creatures.resolve(self.creature)
         spec = creature.spec(self.maneuver)
-        return not spec.limit_violations(params, *creature.gait_limits())
+        return not spec.limit_violations(params, *creature.gait_limits(self.maneuver))
 
 
 @dataclass(frozen=True, eq=False)

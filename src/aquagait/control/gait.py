@@ -12,11 +12,14 @@ vector ``x`` that CMA-ES sees drives them:
 - ``shared`` kinds are one number for every DOF (an accordion: one amplitude);
 - ``mirror`` copies a DOF's sine onto another with a sign, ``qbar_m = sign *
   qbar_source`` (left and right limbs: half the parameters);
-- ``groups`` split the DOFs into sets optimized in turn (frog: hind, then fore).
+- ``groups`` split the DOFs into sets optimized in turn (frog: hind, then fore);
+- ``held`` DOFs do not beat: they hold an offset only (amplitude 0), a
+  rudder a manoeuvre learns to set (the 2D turtle's rear flipper).
 
 Parameter names read ``amplitude[j1]`` or, when shared, ``amplitude``; the
 layout of ``x`` is: for each free kind in ``KINDS`` order, one entry (shared)
-or one per independent (not mirrored) DOF in ``dofs`` order.
+or one per independent (not mirrored) DOF in ``dofs`` order; held DOFs only
+have an ``offset`` entry.
 """
 
 from __future__ import annotations
@@ -65,6 +68,22 @@ class SineGait:
     def mirrored(self) -> SineGait:
         """The gait with every reference angle negated: the mirror image for yaw joints."""
         return SineGait(self.dofs, -self.amplitude, self.phase, self.period, -self.offset)
+
+    def on(self, dofs) -> SineGait:
+        """The same references over ``dofs`` (a superset of ``self.dofs``, in any order);
+        a DOF it does not drive is held at 0 rad, as a servo holds an undriven DOF."""
+        dofs = tuple(dofs)
+        missing = [d for d in self.dofs if d not in dofs]
+        if missing:
+            raise ValueError(f"the gait drives {missing}, which are not among {dofs}")
+        row = {d: i for i, d in enumerate(self.dofs)}
+        take = np.array([row.get(d, -1) for d in dofs])
+
+        def pick(values, rest):
+            return np.where(take >= 0, np.asarray(values)[np.maximum(take, 0)], rest)
+
+        return SineGait(dofs, pick(self.amplitude, 0.0), pick(self.phase, 0.0),
+                        pick(self.period, 1.0), pick(self.offset, 0.0))  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -134,6 +153,8 @@ class GaitSpec:
         shared: free kinds that are one number for all DOFs.
         mirror: ``(dof, source, sign)`` triples: ``qbar_dof = sign * qbar_source``.
         groups: tuples of DOF names optimized in turn; empty means one group.
+        held: DOFs that hold an offset and do not beat (amplitude 0): only their
+            ``offset`` is a parameter, when it is free.
         bounds: search bounds by kind (``"amplitude"``) or by parameter
             (``"amplitude[j3]"``), overriding ``DEFAULT_BOUNDS``.
         amplitude, phase, period, offset: the values of kinds that are not free.
@@ -145,6 +166,7 @@ class GaitSpec:
     mirror: tuple[tuple[str, str, float], ...] = ()
     groups: tuple[tuple[str, ...], ...] = ()
     bounds: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    held: tuple[str, ...] = ()
     amplitude: float = 0.0
     phase: float = 0.0
     period: float = 1.0
@@ -154,6 +176,7 @@ class GaitSpec:
         object.__setattr__(self, "dofs", tuple(self.dofs))
         object.__setattr__(self, "mirror", tuple(tuple(m) for m in self.mirror))
         object.__setattr__(self, "groups", tuple(tuple(g) for g in self.groups))
+        object.__setattr__(self, "held", tuple(self.held))
         _check_spec(self)
 
     # --- layout -------------------------------------------------------------
@@ -168,7 +191,8 @@ class GaitSpec:
         """Name of each entry of the parameter vector, in order."""
         names = []
         for kind in (k for k in KINDS if k in self.free):
-            names += [kind] if kind in self.shared else [f"{kind}[{d}]" for d in self.independent]
+            dofs = [d for d in self.independent if kind == "offset" or d not in self.held]
+            names += [kind] if kind in self.shared else [f"{kind}[{d}]" for d in dofs]
         return tuple(names)
 
     @property
@@ -215,6 +239,8 @@ class GaitSpec:
             per_kind[kind] = {
                 d: values.get(kind, values.get(f"{kind}[{d}]", fixed)) for d in self.independent
             }
+        for dof in self.held:
+            per_kind["amplitude"][dof] = 0.0
         for dof, source, sign in self.mirror:
             for kind in KINDS:
                 value = per_kind[kind][source]
@@ -301,6 +327,10 @@ def _check_spec(spec: GaitSpec) -> None:
             raise ValueError(f"mirror sign for {dof!r} must be +1 or -1, got {sign}")
     if len(set(mirrored)) != len(mirrored):
         raise ValueError(f"a DOF is mirrored twice in {spec.mirror}")
+    if not set(spec.held) <= set(spec.dofs) - set(mirrored) or any(
+        source in spec.held for _, source, _ in spec.mirror
+    ):
+        raise ValueError(f"held DOFs {spec.held} must be independent DOFs of {spec.dofs}")
     if spec.groups:
         listed = [d for g in spec.groups for d in g]
         if sorted(listed) != sorted(spec.dofs):

@@ -110,9 +110,9 @@ class Creature:
     def dim(self) -> int:
         return self.model.dim
 
-    def gait_limits(self) -> tuple[np.ndarray, np.ndarray]:
-        """Joint limits (lower, upper) of the gait's DOFs, each (n,) [rad]."""
-        return dof_limits(self.model, self.gait.dofs)
+    def gait_limits(self, maneuver: str = STRAIGHT) -> tuple[np.ndarray, np.ndarray]:
+        """Joint limits (lower, upper) of the DOFs of ``spec(maneuver)``, each (n,) [rad]."""
+        return dof_limits(self.model, self.spec(maneuver).dofs)
 
     def spec(self, maneuver: str = STRAIGHT) -> GaitSpec:
         """The gait parameterization manoeuvre ``maneuver`` is learned in (``maneuver_spec``)."""
@@ -158,6 +158,9 @@ def maneuver_spec(spec: GaitSpec, model: Model, maneuver: str) -> GaitSpec:
     offsets, so that joints can hold a bend while they beat; each offset
     ranges over its joint's limits within ``DEFAULT_BOUNDS["offset"]``
     (+-0.5 rad; an offset the straight gait already frees keeps its bounds).
+    Actuated DOFs the straight gait does not drive (held at rest: the 2D
+    turtle's rear flipper) join as ``held`` DOFs, rudders that learn an
+    offset and do not beat (in a grouped gait, a group of their own, last).
     A turn also drops the mirror: it bends one side unlike the other, so
     every DOF gets its own parameters (a mirrored DOF takes its source's
     bounds). A pitch keeps the mirror, as it is symmetric left to right.
@@ -179,26 +182,27 @@ def maneuver_spec(spec: GaitSpec, model: Model, maneuver: str) -> GaitSpec:
                 if of == f"{source}]":
                     flip = sign < 0 and kind == "offset"
                     bounds[f"{kind}[{dof}]"] = (-hi, -lo) if flip else (lo, hi)
-    free = spec.free
-    if "offset" not in spec.free:
-        free = spec.free + ("offset",)
-        low, high = DEFAULT_BOUNDS["offset"]
-        lower, upper = dof_limits(model, spec.dofs)
-        mirrored = {m[0] for m in mirror}
-        for dof, lo, hi in zip(spec.dofs, lower, upper, strict=True):
-            if dof not in mirrored:
-                bounds[f"offset[{dof}]"] = (max(lo, low), min(hi, high))
+    held = tuple(d for d in actuated_dof_names(model) if d not in spec.dofs)
+    dofs = spec.dofs + held
+    free = spec.free if "offset" in spec.free else spec.free + ("offset",)
+    low, high = DEFAULT_BOUNDS["offset"]
+    mirrored = {m[0] for m in mirror}
+    for dof, lo, hi in zip(dofs, *dof_limits(model, dofs), strict=True):
+        if dof not in mirrored and (dof in held or "offset" not in spec.free):
+            bounds[f"offset[{dof}]"] = (max(lo, low), min(hi, high))
+    groups = spec.groups + (held,) if spec.groups and held else spec.groups
     return GaitSpec(
-        dofs=spec.dofs, free=free, shared=tuple(k for k in spec.shared if k != "offset"),
-        mirror=mirror, groups=spec.groups, bounds=bounds, amplitude=spec.amplitude,
-        phase=spec.phase, period=spec.period, offset=spec.offset,
+        dofs=dofs, free=free, shared=tuple(k for k in spec.shared if k != "offset"),
+        mirror=mirror, groups=groups, bounds=bounds, amplitude=spec.amplitude,
+        phase=spec.phase, period=spec.period, offset=spec.offset, held=held,
     )  # fmt: skip
 
 
 def maneuver_start(creature: Creature, maneuver: str) -> np.ndarray:
     """Where a manoeuvre's search starts: the straight gait in the manoeuvre's parameters."""
+    spec = creature.spec(maneuver)
     straight: SineGait = creature.gait.unpack(creature.default_gait)
-    return creature.spec(maneuver).vector(straight)
+    return spec.vector(straight.on(spec.dofs))
 
 
 def actuated_dof_names(model: Model) -> tuple[str, ...]:
@@ -248,11 +252,11 @@ def creature_problems(c: Creature) -> list[str]:
     if missing:
         return [f"gait DOFs {missing} are not actuated DOFs of the model ({', '.join(actuated)})"]
     problems = []
-    limits = c.gait_limits()
     for label, x, spec in [("default gait", c.default_gait, c.gait)] + [
         (f"shipped gait {name!r}", g.params, c.spec(name if name in MANEUVERS else STRAIGHT))
         for name, g in c.gaits.items()
     ]:
+        limits = dof_limits(c.model, spec.dofs)
         problems += [f"{label} {p}" for p in gait_problems(spec, x, *limits)]
     if len(c.resolution) != c.dim:
         problems.append(f"resolution {c.resolution} is not {c.dim}D")

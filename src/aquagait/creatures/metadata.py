@@ -238,12 +238,12 @@ def _grid(model: Model, meta: Metadata, notes: list) -> tuple[tuple, float, list
 def _shipped_gaits(model: Model, spec: GaitSpec, meta: Metadata) -> tuple[dict, list]:
     """The shipped gaits as vectors, and what is wrong with them."""
     gaits, problems = {}, []
-    limits = dof_limits(model, spec.dofs)
     for name, entry in meta.gaits.items():
         where = at(at("gaits", name), "params")
         own = maneuver_spec(spec, model, name) if name in MANEUVERS else spec
         x, wrong = _params(own, entry["params"], where)
         if not wrong:
+            limits = dof_limits(model, own.dofs)
             wrong = [f"{where}: the gait {p}" for p in gait_problems(own, x, *limits)]
         problems += wrong
         gaits[name] = ShippedGait(x, entry["provenance"])

@@ -106,8 +106,9 @@ class Follower:
 
     Args:
         scene: the scene swum in (its model and dynamics give the root's pose).
-        gaits: the manoeuvre library, ``{name: SineGait}``; must hold ``straight``;
-            all drive the same DOFs.
+        gaits: the manoeuvre library, ``{name: SineGait}``; must hold ``straight``.
+            Each is driven over every DOF any of them drives, holding at 0 rad
+            those it does not (``SineGait.on``: a manoeuvre's rudder).
         servo: ``servo(gait) -> policy``, the creature's PD servo tracking a gait.
         path: the path, of the scene's dimension.
         period: the gait cycle T [s]; a decision every T.
@@ -136,7 +137,9 @@ class Follower:
                 f"need period > 0 s, dead_band >= 0 m and blend in [0, 1]; got {period}, "
                 f"{dead_band}, {blend}"
             )
-        self.scene, self.gaits, self.servo, self.path = scene, dict(gaits), servo, path
+        dofs = tuple(dict.fromkeys(d for gait in gaits.values() for d in gait.dofs))
+        gaits = {name: gait.on(dofs) for name, gait in gaits.items()}  # a rudder's DOFs too
+        self.scene, self.gaits, self.servo, self.path = scene, gaits, servo, path
         self.period, self.dead_band, self.blend = float(period), float(dead_band), float(blend)
         self.decisions: list[Decision] = []
         self._policy = None
