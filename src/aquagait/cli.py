@@ -65,8 +65,10 @@ def _cmd_swim(args) -> int:
             fluid=args.fluid,
             resolution=args.resolution,
             cell_size=args.cell_size,
+            maneuver=args.maneuver,
         )
-        out = output_directory(args.out or Path("runs") / setup.creature.name)
+        label = setup.creature.name + (f"-{args.maneuver}" if args.maneuver else "")
+        out = output_directory(args.out or Path("runs") / label)
     except SetupError as err:
         return _fail("swim", err, status=2)
     return _swim_and_write(setup, out, not args.no_video)
@@ -399,6 +401,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     swim.add_argument("name", metavar="NAME", help=NAME_HELP)
     swim.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
+    swim.add_argument("--maneuver", choices=MANEUVERS,
+                      help="swim a learned manoeuvre's shipped gait instead")  # fmt: skip
     swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
     swim.add_argument("--fluid", choices=list(FLUIDS), default="euler")
     swim.add_argument(

@@ -61,3 +61,16 @@ def test_a_swim_shorter_than_two_cycles_says_what_it_cannot_measure(eel):
 def test_an_output_directory_that_cannot_be_written_is_a_setup_error():
     with pytest.raises(SetupError, match="cannot write the run directory /proc/x: .* --out"):
         output_directory("/proc/x")
+
+
+def test_a_learned_manoeuvre_swims_its_shipped_gait(tmp_path):
+    setup = prepare_swim("eel2d", maneuver="turn-left", seconds=0.2, fluid="none")
+    eel = setup.creature
+    assert setup.maneuver == "turn-left" and setup.spec is eel.spec("turn-left")
+    np.testing.assert_array_equal(setup.params, eel.maneuver_gait("turn-left"))
+    out = write_swim(run_swim(setup), tmp_path / "run")
+    assert read_gait(out / "gait.json", eel).maneuver == "turn-left"
+    with pytest.raises(SwimSetupError, match="accordion2d has not learned 'turn-left'"):
+        prepare_swim("accordion2d", maneuver="turn-left", fluid="none")
+    with pytest.raises(SwimSetupError, match="a gait or a manoeuvre, not both"):
+        prepare_swim("eel2d", gait=out / "gait.json", maneuver="turn-left", fluid="none")

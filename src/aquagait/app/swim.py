@@ -22,7 +22,7 @@ import numpy as np
 from aquagait.app.errors import SetupError
 from aquagait.app.render import draw_swim
 from aquagait.app.resolve import creature_key, find_creature
-from aquagait.creatures import Creature
+from aquagait.creatures import Creature, CreatureError
 from aquagait.io.gait import GaitFileError, read_gait, write_gait
 from aquagait.io.run import library_versions, write_run
 from aquagait.metrics import NoSteadyWindow, steady_metrics, travel_metrics
@@ -92,6 +92,7 @@ def prepare_swim(
     cell_size: float | None = None,
     dt: float | None = None,
     fps: float = FRAMES_PER_SECOND,
+    maneuver: str | None = None,
 ) -> SwimSetup:
     """Resolve a swim's settings: creature, gait, scene.
 
@@ -106,6 +107,8 @@ def prepare_swim(
         cell_size: h [m], default the creature's.
         dt: largest time step [s], default ``rollout``'s.
         fps: frames per second recorded.
+        maneuver: swim this learned manoeuvre's shipped gait (``turn-left``, ...)
+            instead of the default one; not with ``gait``.
 
     Raises:
         SwimSetupError: the message says which setting is wrong and what would be right.
@@ -114,14 +117,22 @@ def prepare_swim(
         creature = find_creature(name)
     except SetupError as err:
         raise SwimSetupError(str(err)) from None
-    maneuver = "straight"
-    if isinstance(gait, str | Path):
+    if maneuver is not None:
+        if gait is not None:
+            raise SwimSetupError("give a gait or a manoeuvre, not both")
+        try:
+            params = creature.maneuver_gait(maneuver)
+        except (CreatureError, ValueError) as err:
+            raise SwimSetupError(str(err)) from None
+        source = f"shipped {maneuver}"
+    elif isinstance(gait, str | Path):
         try:
             found = read_gait(gait, creature)
         except GaitFileError as err:
             raise SwimSetupError(str(err)) from None
         params, source, maneuver = found.params, str(gait), found.maneuver
     else:
+        maneuver = "straight"
         params = creature.default_gait if gait is None else np.asarray(gait, dtype=float)
         source = "default" if gait is None else "given"
         if params.shape != (creature.gait.size,):

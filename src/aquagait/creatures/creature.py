@@ -102,6 +102,7 @@ class Creature:
         object.__setattr__(self, "resolution", tuple(int(n) for n in self.resolution))
         object.__setattr__(self, "gaits", dict(self.gaits))
         object.__setattr__(self, "notes", tuple(self.notes))
+        object.__setattr__(self, "_specs", {STRAIGHT: self.gait})  # by manoeuvre, as asked
         problems = creature_problems(self)
         if problems:
             raise CreatureError(f"creature {self.name!r}: " + "; ".join(problems))
@@ -116,7 +117,9 @@ class Creature:
 
     def spec(self, maneuver: str = STRAIGHT) -> GaitSpec:
         """The gait parameterization manoeuvre ``maneuver`` is learned in (``maneuver_spec``)."""
-        return maneuver_spec(self.gait, self.model, maneuver)
+        if maneuver not in self._specs:
+            self._specs[maneuver] = maneuver_spec(self.gait, self.model, maneuver)
+        return self._specs[maneuver]
 
     @property
     def maneuvers(self) -> tuple[str, ...]:
