@@ -106,7 +106,8 @@ def test_a_bad_gait_file_names_the_fix(tmp_path, capsys):
     bad = tmp_path / "gait.json"
     bad.write_text(json.dumps({"creature": "eel2d", "names": ["a"], "params": [1.0]}))
     assert main(["swim", "eel2d", "--fluid", "none", "--gait", str(bad)]) == 2
-    assert "has 1 gait parameters; eel2d has 8: amplitude[j1]" in capsys.readouterr().err
+    message = capsys.readouterr().err
+    assert "has 1 gait parameters; eel2d's straight gait has 8: amplitude[j1]" in message
 
 
 def test_the_progress_bar_redraws_one_line_on_a_terminal():
