@@ -53,6 +53,9 @@ DEFAULT_CYCLES = 10
 DEAD_BAND = 0.1
 """The follower's dead band, in body lengths."""
 
+SNAPSHOTS = 12
+"""At most this many snapshots of the creature (whole cycles apart) in ``follow.png``."""
+
 NEEDED = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
 """Per axis across the root frame (y, z), the manoeuvres that correct it."""
 
@@ -132,8 +135,8 @@ def prepare_follow(
         cycles: gait cycles to swim, >= 1.
         learned: ``gait.json`` files (or ``aquagait optimize`` run directories)
             of manoeuvres, added to (or replacing) the creature's shipped ones.
-        resolution, cell_size: the fluid grid; default the creature's, made
-            square in 2D (a turning creature needs room whichever way it faces).
+        resolution, cell_size: the fluid grid; default the creature's made roomier
+            (``roomy_grid``: square in 2D, the cross-section a quarter larger in 3D).
         dead_band: the rule's ``eps`` [m]; default a tenth of a body length.
         blend: share of a cycle over which a switch blends, in [0, 1].
         open_loop: swim the straight gait only, to measure the drift.
@@ -155,8 +158,8 @@ def prepare_follow(
     if not 0 <= blend <= 1:
         raise FollowSetupError(f"blend is a share of a cycle in [0, 1], got {blend!r}")
     gaits = _library(creature, learned)
-    if resolution is None and creature.dim == 2:
-        resolution = (max(creature.resolution),) * 2
+    if resolution is None:
+        resolution = roomy_grid(creature.resolution)
     try:
         scene = make_scene(creature, resolution=resolution, cell_size=cell_size, fluid=fluid)
     except ValueError as err:
@@ -177,6 +180,16 @@ def prepare_follow(
     period = float(np.max(spec.unpack(x).period))
     return FollowSetup(creature, scene, path, source, gaits, int(cycles), period, eps,
                        float(blend), bool(open_loop), float(fps))  # fmt: skip
+
+
+def roomy_grid(resolution) -> tuple[int, ...]:
+    """The grid a manoeuvring creature follows on: in 2D square (a turning body needs room
+    whichever way it faces), in 3D the cross-section a quarter larger (multiples of 8: a
+    pitching or turning body spans more than its straight swim's grid allows)."""
+    if len(resolution) == 2:
+        return (max(resolution),) * 2
+    nx, ny, nz = resolution
+    return nx, *(int(8 * np.ceil(1.25 * n / 8)) for n in (ny, nz))
 
 
 def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
@@ -252,7 +265,8 @@ def follow_config(setup: FollowSetup, trajectory: Trajectory) -> dict:
 def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> FilePath:
     """Write the run directory: config.json, trajectory.npz, metrics.json, path.csv (the path),
     maneuvers.csv (a row per cycle), path_distance.csv (a row per frame); with ``video`` also
-    swim.mp4 with the path drawn and follow.png, the creature's snapshots along the path.
+    swim.mp4 with the path drawn and follow.png, the creature's snapshots along the path
+    (every cycle, or every few for more than ``SNAPSHOTS`` cycles).
 
     Raises:
         aquagait.viz.gl.RenderUnavailable: a 3D picture and no OpenGL; the run's
@@ -276,8 +290,10 @@ def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> Fil
 
         render_follow(run.trajectory, creature.model, run.setup.path.points, out / "swim.mp4",
                       progress=progress)  # fmt: skip
+        cycle = int(round(run.setup.period * run.trajectory.fps))
+        every = max(1, cycle * int(np.ceil(run.setup.cycles / SNAPSHOTS)))  # whole cycles
         draw_follow(run.trajectory, creature.model, run.setup.path.points, out / "follow.png",
-                    every=max(1, int(round(run.setup.period * run.trajectory.fps))))  # fmt: skip
+                    every=every)  # fmt: skip
     return out
 
 
