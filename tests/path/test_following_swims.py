@@ -5,7 +5,6 @@ see the figures of the issue: the eel on a circle and an S-curve, the 2D
 turtle open-loop and following a straight line, the manta on a vertical S.
 """
 
-import numpy as np
 import pytest
 
 from aquagait.app.follow import prepare_follow, run_follow
@@ -43,6 +42,7 @@ def test_the_turtle_drifts_open_loop_and_holds_a_line_when_following():
 
 
 def test_the_manta_follows_a_vertical_s():
-    m = _follow("manta", "s-curve:length=3,amplitude=0.3,vertical=true", 12)
+    """The ray swims 0.14 body lengths a cycle: a 1 m S, 0.1 m high, takes it 20 cycles."""
+    m = _follow("manta", "s-curve:length=1,amplitude=0.1,vertical=true", 20)
     assert m["path_distance_mean_body_lengths"] < 0.5
-    assert np.isfinite(m["path_distance_max_body_lengths"])
+    assert m["path_progress_body_lengths"] > 2
