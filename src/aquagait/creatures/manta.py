@@ -62,6 +62,14 @@ second cycle), heading within half a degree of +x, pitching up 2 deg, spending
 0.94 J in the Euler fluid (hand-set variants: amplitudes 0.6/0.5 rad swam
 0.12 body lengths per cycle for 1.23 J).
 
+Also shipped: the learned manoeuvres ``pitch-up`` and ``pitch-down`` (the
+same 21 parameters, mirrored, the offsets already free;
+``aquagait optimize manta --maneuver pitch-up --generations 15 --popsize
+16``), which pitch the nose 27 and 28 degrees up and down over two cycles
+from rest, mostly in place (0.03 body lengths a cycle), and let the ray
+follow a vertical S (``aquagait follow manta --path
+s-curve:length=1,amplitude=0.1,vertical=true --cycles 20``).
+
 ======  ======================  ===============  ===================  ========================
 DOF     amplitude bounds        phase bounds     offset bounds        default (amp, phase, off)
 ======  ======================  ===============  ===================  ========================
