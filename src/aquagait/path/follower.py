@@ -19,12 +19,14 @@ an undulating swimmer (the eel's head) sways about ten degrees within every
 cycle, always at the same phase at a cycle's start, which would bias every
 decision the same way; and a turn goes on for a while after its cycle, so
 a heading that lags makes the follower turn too far. Measured on eel2d
-(12-15 cycles, mean and max distance to the path in body lengths, circles of
-radius 0.6 and 1 m and an S-curve): the pose itself at the cycle's start
+(its turn-left and that turn mirrored as turn-right; 12-15 cycles, mean and
+max distance to the path in body lengths, circles of radius 0.6 and 1 m and
+an S-curve 3 m long and 0.4 m high): the pose itself at the cycle's start
 0.41/0.88 on the smaller circle; the mean heading 0.39/1.17, 0.51/1.68,
 0.20/0.58; carried on by half a cycle 0.18/0.41, 0.29/0.85, 0.21/0.62 (by
-a whole cycle 0.49/1.09, 0.28/0.75, 0.43/1.23). A
-manoeuvre it has no gait for is swum straight (and counted in
+a whole cycle 0.49/1.09, 0.28/0.75, 0.43/1.23).
+
+A manoeuvre it has no gait for is swum straight (and counted in
 ``Decision.unlearned``), so a creature that has learned only some turns
 still follows as well as it can. A change of manoeuvre blends the reference
 angles over ``blend`` of a cycle (``SwitchedGait``), so the joints are never
@@ -37,6 +39,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from aquagait.control.gait import SineGait, SwitchedGait
 from aquagait.path.paths import Path
@@ -92,8 +95,6 @@ def mean_rotation(rotations) -> np.ndarray:
 
 def lead(before, now, cycles: float) -> np.ndarray:
     """Rotation ``now`` (3, 3) turned on by ``cycles`` times the turn from ``before`` to it."""
-    from scipy.spatial.transform import Rotation
-
     turn = Rotation.from_matrix(before.T @ now).as_rotvec()  # in the body's frame
     return now @ Rotation.from_rotvec(cycles * turn).as_matrix()
 
