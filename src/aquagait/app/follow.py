@@ -39,6 +39,7 @@ from aquagait.metrics import travel_metrics
 from aquagait.objectives import MANEUVERS
 from aquagait.path import (
     BLEND,
+    Decision,
     SHAPES,
     Follower,
     Path,
@@ -106,7 +107,7 @@ class FollowRun:
 
     setup: FollowSetup
     trajectory: Trajectory
-    decisions: list
+    decisions: list[Decision]
     distance: np.ndarray
     metrics: dict
     config: dict
