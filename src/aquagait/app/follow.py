@@ -39,8 +39,8 @@ from aquagait.metrics import travel_metrics
 from aquagait.objectives import MANEUVERS
 from aquagait.path import (
     BLEND,
-    Decision,
     SHAPES,
+    Decision,
     Follower,
     Path,
     PathError,
