@@ -65,7 +65,10 @@ UNITS = {
     "steady_body_lengths_per_cycle": "1",
     "tail_amplitude": "m",
     "strouhal": "1",
-    # following a path (aquagait.app.follow): the root's distance to it per frame
+}
+"""The unit of each entry of ``swim_metrics``'s result."""
+
+PATH_UNITS = {
     "path_distance_mean": "m",
     "path_distance_max": "m",
     "path_distance_final": "m",
@@ -76,7 +79,9 @@ UNITS = {
     "path_progress_body_lengths": "1",
     "unlearned_requests": "1",
 }
-"""The unit of each entry of ``swim_metrics``'s result."""
+"""The unit of each entry a path following adds (``aquagait.app.follow``): the root's
+distance to the path over the frames, how far along it got, cycles swum straight for want
+of a learned manoeuvre."""
 
 STILL = 1e-9
 """Displacements below this many body lengths are rounding noise: the body did not move."""

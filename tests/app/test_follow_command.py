@@ -46,6 +46,8 @@ def test_a_shape_starts_at_the_root_and_the_run_records_the_way(tmp_path, learne
     assert {"config.json", "trajectory.npz", "metrics.json", "path.csv", "maneuvers.csv",
             "path_distance.csv", "swim.mp4", "follow.png"} <= written  # fmt: skip
     metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["units"]["path_distance_mean"] == "m"
+    assert metrics["units"]["path_progress_body_lengths"] == "1"
     length = EEL.model.body_length
     assert metrics["path_distance_mean_body_lengths"] == pytest.approx(
         metrics["path_distance_mean"] / length)  # fmt: skip

@@ -35,7 +35,7 @@ import numpy as np
 
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
-from aquagait.metrics import UNITS
+from aquagait.metrics import PATH_UNITS, UNITS
 from aquagait.sim import FluidFrames, Trajectory
 
 CONFIG, TRAJECTORY, METRICS = "config.json", "trajectory.npz", "metrics.json"
@@ -84,7 +84,8 @@ def write_run(out, trajectory: Trajectory, config: dict, metrics=None, model=Non
     write_json(out / CONFIG, {**config, "versions": config.get("versions", library_versions())})
     save_trajectory(out / TRAJECTORY, trajectory, model)
     if metrics is not None:
-        units = {k: UNITS[k] for k in metrics if k in UNITS}
+        known = UNITS | PATH_UNITS
+        units = {k: known[k] for k in metrics if k in known}
         write_json(out / METRICS, {**metrics, "units": units})
     return out
 
