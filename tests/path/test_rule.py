@@ -18,7 +18,7 @@ EPS = 0.05
         ((0.5, -0.3), (0.6, 0.8), "straight"),
         ((0.5, 0.3), (0.6, 0.8), "turn-left"),  # on the left and going further left
         ((0.5, 0.04), (1.0, 0.0), "straight"),  # within the dead band
-        ((0.5, -0.04), (0.9, 0.4), "straight"),  # on the path, 24 degrees off its direction
+        ((0.5, -0.04), (0.98, 0.2), "straight"),  # on the path, 12 degrees off its direction
         ((0.5, -0.04), (0.6, 0.8), "turn-left"),  # on it, 53 degrees off: align
         ((0.0, 0.0), (0.6, -0.8), "turn-right"),
         ((-0.5, 0.3), (1.0, 0.0), "turn-left"),  # behind and to the left: still turn left
