@@ -468,7 +468,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=int,
         nargs="+",
         metavar="N",
-        help="cells per axis (default: the creature's, square in 2D)",
+        help="cells per axis (default: the creature's made roomier: square in 2D, the "
+        "cross-section a quarter larger in 3D)",
     )
     follow.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
     follow.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME-follow)")
