@@ -24,17 +24,17 @@ measure how far the creature drifts without following.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from datetime import UTC, datetime
 from pathlib import Path as FilePath
 
 import numpy as np
 
 from aquagait.app.errors import SetupError
-from aquagait.app.resolve import creature_key, find_creature
+from aquagait.app.resolve import find_creature
+from aquagait.app.swim import run_config
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT
 from aquagait.io.gait import GaitFileError, read_gait
-from aquagait.io.run import library_versions, write_run
+from aquagait.io.run import write_run
 from aquagait.metrics import travel_metrics
 from aquagait.objectives import MANEUVERS
 from aquagait.path import (
@@ -230,12 +230,7 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
 
 def follow_config(setup: FollowSetup, trajectory: Trajectory) -> dict:
     """Every resolved setting of a path following, for ``config.json``."""
-    creature, grid = setup.creature, setup.scene.grid
-    return {
-        "command": "follow",
-        "creature": creature.name,
-        "creature_source": creature_key(creature),
-        "dim": creature.dim,
+    return run_config("follow", setup.creature, setup.scene, trajectory, {
         "path": setup.path_source,
         "path_points": len(setup.path.points),
         "path_length": setup.path.length,
@@ -249,18 +244,7 @@ def follow_config(setup: FollowSetup, trajectory: Trajectory) -> dict:
         "seconds": setup.seconds,
         "dead_band": setup.dead_band,
         "blend": setup.blend,
-        "fluid": setup.scene.fluid.name,
-        "fluid_settings": setup.scene.fluid.settings(),
-        "density": setup.scene.density,
-        "resolution": None if grid is None else list(grid.shape),
-        "cell_size": None if grid is None else grid.cell_size,
-        "dt": trajectory.dt,
-        "fps": trajectory.fps,
-        "frames": len(trajectory.time),
-        "pd": {"natural_frequency": creature.natural_frequency, "damping": creature.damping_ratio},
-        "versions": library_versions(),
-        "created": datetime.now(UTC).isoformat(timespec="seconds"),
-    }
+    })  # fmt: skip
 
 
 def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> FilePath:

@@ -178,12 +178,7 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
 
 def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
     """Every resolved setting of a swim, for ``config.json``."""
-    creature, grid = setup.creature, setup.scene.grid
-    return {
-        "command": "swim",
-        "creature": creature.name,
-        "creature_source": creature_key(creature),
-        "dim": creature.dim,
+    return run_config("swim", setup.creature, setup.scene, trajectory, {
         "gait": {
             "source": setup.gait_source,
             "maneuver": setup.maneuver,
@@ -192,9 +187,23 @@ def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
         },
         "period": setup.period,
         "seconds": setup.seconds,
-        "fluid": setup.scene.fluid.name,
-        "fluid_settings": setup.scene.fluid.settings(),
-        "density": setup.scene.density,
+    })  # fmt: skip
+
+
+def run_config(command: str, creature: Creature, scene: Scene, trajectory: Trajectory,
+               settings: dict) -> dict:  # fmt: skip
+    """``config.json`` of a run of ``command``: its own ``settings``, then what every run
+    records (creature, fluid and grid, steps and frames, PD gains, library versions, date)."""
+    grid = scene.grid
+    return {
+        "command": command,
+        "creature": creature.name,
+        "creature_source": creature_key(creature),
+        "dim": creature.dim,
+        **settings,
+        "fluid": scene.fluid.name,
+        "fluid_settings": scene.fluid.settings(),
+        "density": scene.density,
         "resolution": None if grid is None else list(grid.shape),
         "cell_size": None if grid is None else grid.cell_size,
         "grid_origin": None if grid is None else list(grid.origin),
