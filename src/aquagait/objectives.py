@@ -75,8 +75,11 @@ def root_displacement(model: Model, traj: Trajectory) -> np.ndarray:
     return position[-1] - position[0]
 
 
+STRAIGHT = "straight"
+"""Swimming straight ahead: the manoeuvre every creature has, its default gait."""
+
 MANEUVERS = {
-    "straight": ((1.0, 0.0, 0.0), None),
+    STRAIGHT: ((1.0, 0.0, 0.0), None),
     "turn-left": ((1.0, 1.0, 0.0), (0.0, 0.0, 1.0)),
     "turn-right": ((1.0, -1.0, 0.0), (0.0, 0.0, -1.0)),
     "pitch-up": ((1.0, 0.0, 1.0), (0.0, -1.0, 0.0)),

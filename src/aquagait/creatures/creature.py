@@ -19,10 +19,8 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
 from aquagait.control.gait import DEFAULT_BOUNDS, GaitSpec, SineGait
 from aquagait.control.pd import StablePD
-from aquagait.objectives import MANEUVERS
+from aquagait.objectives import MANEUVERS, STRAIGHT
 from aquagait.sim.follow import CLEARANCE, cells_around
-
-STRAIGHT = "straight"
 
 
 class CreatureError(ValueError):

@@ -23,9 +23,7 @@ import numpy as np
 
 from aquagait.creatures import Creature
 from aquagait.io.run import read_json, write_json
-from aquagait.objectives import MANEUVERS
-
-STRAIGHT = "straight"
+from aquagait.objectives import MANEUVERS, STRAIGHT
 
 
 class GaitFileError(ValueError):

@@ -32,8 +32,8 @@ from __future__ import annotations
 import numpy as np
 
 from aquagait import objectives
+from aquagait.objectives import STRAIGHT
 
-STRAIGHT = "straight"
 MANEUVERS = tuple(objectives.MANEUVERS)
 ALIGN = 0.25
 """On the path (within the dead band), the tangent's sideways component beyond which the
