@@ -59,10 +59,10 @@ from the formula above; tests hold the two against each other.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
+import numba
 import numpy as np
 
 from aquagait.body.voxelize import Voxels, marked
@@ -92,9 +92,11 @@ MOSTLY_WATER = 0.5
 """A coupled face with at least this water fraction keeps the water's velocity
 after the solve (for advection); below it, it takes the body's."""
 
-PointVelocity = Callable[[np.ndarray, np.ndarray], np.ndarray]
-"""``point_velocity(points (n, 3), links (n,)) -> (n, 3)``: the rigid velocity of
-points moving with the given links [m/s]; the seam from the body to the fluid."""
+LinkMotion = tuple[np.ndarray, np.ndarray, np.ndarray]
+"""``(origins, linear, angular)``, each (nlinks, 3): the links' world origins [m],
+their velocities [m/s] and angular velocities [rad/s] (``Dynamics.link_motion``).
+A point ``p`` moving with link k moves at ``linear[k] + angular[k] x (p - origins[k])``;
+the seam from the body to the fluid."""
 
 
 @dataclass(frozen=True)
@@ -273,9 +275,7 @@ def volume_change(problem: CoupledProblem, velocity: Velocity, qvel: np.ndarray)
     return fluid - _per_cell(grid, cells, rows @ qvel)
 
 
-def rigid_faces_(
-    grid: Grid, velocity: Velocity, voxels: Voxels, point_velocity: PointVelocity
-) -> None:
+def rigid_faces_(grid: Grid, velocity: Velocity, voxels: Voxels, motion: LinkMotion) -> None:
     """Give every mostly solid face the rigid velocity of its link, in place.
 
     Mostly solid: a coupled face whose water fraction is below 1/2, or any
@@ -286,33 +286,40 @@ def rigid_faces_(
     near the body interpolates sensible values. A face between cells of two
     links takes the mean of both links' velocities there (no side is
     preferred, so a mirror-symmetric body stays symmetric).
+
+    Args:
+        grid: the MAC grid.
+        velocity: face velocities [m/s], written in place.
+        voxels: the voxelized body.
+        motion: the links' rigid motion (``LinkMotion``).
     """
-    box = _solid_box(voxels.owner)
-    if box is None:
-        return
+    origins, linear, angular = (np.ascontiguousarray(a, dtype=float) for a in motion)
+    owner = voxels.owner.reshape(voxels.owner.shape + (1,) * (3 - grid.dim))
+    origin = np.zeros(3)
+    origin[: grid.dim] = grid.origin
     watery = voxels.face_weight >= MOSTLY_WATER
     kept = [_coupled_values(velocity, voxels, watery, axis) for axis in range(grid.dim)]
     for axis, component in enumerate(velocity):
-        index, lo, hi = _faces_touching_solid(voxels.owner, box, axis)
-        offset = np.full(grid.dim, 0.5)
-        offset[axis] = 0.0
-        points = np.zeros((len(index), 3))
-        points[:, : grid.dim] = np.asarray(grid.origin) + (index + offset) * grid.cell_size
-        lo, hi = np.where(lo >= 0, lo, hi), np.where(hi >= 0, hi, lo)
-        both = np.concatenate([lo, hi])
-        speeds = point_velocity(np.concatenate([points, points]), both)[:, axis]
-        component[tuple(index.T)] = 0.5 * (speeds[: len(lo)] + speeds[len(lo) :])
+        face = component.reshape(component.shape + (1,) * (3 - grid.dim))
+        _owned_faces_(owner, axis, origin, grid.cell_size, grid.dim == 3, origins, linear,
+                      angular, face)  # fmt: skip
         at, values = kept[axis]
         component[at] = values
     loose = ~watery & ~_touches_owned(voxels)
     if loose.any():  # where links meet, the mean of theirs weighted by their shares
-        speeds = point_velocity(voxels.face_center[loose], voxels.face_link[loose])
+        speeds = _rigid_velocity(motion, voxels.face_center[loose], voxels.face_link[loose])
         share = voxels.face_share[loose] / (1.0 - voxels.face_weight[loose])
         axes, index = voxels.face_axis[loose], voxels.face_index[loose]
         for axis, component in enumerate(velocity):
             at = tuple(index[axes == axis].T)
             component[at] = 0.0
             np.add.at(component, at, share[axes == axis] * speeds[axes == axis, axis])
+
+
+def _rigid_velocity(motion: LinkMotion, points: np.ndarray, links: np.ndarray) -> np.ndarray:
+    """The velocity (n, 3) [m/s] of ``points`` (n, 3) moving with ``links`` (n,)."""
+    origins, linear, angular = motion
+    return linear[links] + np.cross(angular[links], points - origins[links])
 
 
 def _coupled_values(velocity: Velocity, voxels: Voxels, chosen: np.ndarray, axis: int):
@@ -328,31 +335,71 @@ def _touches_owned(voxels: Voxels) -> np.ndarray:
     return marked(owned, below, outside=False) | marked(owned, above, outside=False)
 
 
-def _solid_box(owner: np.ndarray) -> tuple[slice, ...] | None:
-    """The bounding box of the solid cells (the body is small beside the grid)."""
-    box = []
-    for axis in range(owner.ndim):
-        occupied = np.flatnonzero(
-            np.any(owner >= 0, axis=tuple(a for a in range(owner.ndim) if a != axis))
-        )
-        if len(occupied) == 0:
-            return None
-        box.append(slice(occupied[0], occupied[-1] + 1))
-    return tuple(box)
+@numba.njit(cache=True, nogil=True)
+def _owned_faces_(owner, axis, origin, h, three_d, origins, linear, angular, face):
+    """Set each face normal to ``axis`` beside an owned cell to its links' velocity.
+
+    ``owner`` (nx, ny, nz; nz = 1 in 2D) holds each cell's link or -1; ``face``
+    is the velocity component normal to ``axis`` in the same layout. A face
+    with owned cells on both sides takes the mean of both links' velocities
+    at its centre (written as ``0.5 (a + b)``, so one link's comes back
+    exactly). Only the box of the owned cells is visited.
+    """
+    nx, ny, nz = owner.shape
+    lo = np.array([nx, ny, nz])
+    hi = np.array([-1, -1, -1])
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                if owner[i, j, k] >= 0:
+                    lo[0], hi[0] = min(lo[0], i), max(hi[0], i)
+                    lo[1], hi[1] = min(lo[1], j), max(hi[1], j)
+                    lo[2], hi[2] = min(lo[2], k), max(hi[2], k)
+    if hi[0] < 0:
+        return
+    hi[axis] += 1  # the faces above the box's last cells
+    step = np.zeros(3, np.int64)
+    step[axis] = 1
+    centre = np.array([0.5, 0.5, 0.5])
+    centre[axis] = 0.0
+    p = np.zeros(3)
+    for i in range(lo[0], hi[0] + 1):
+        for j in range(lo[1], hi[1] + 1):
+            for k in range(lo[2], hi[2] + 1):
+                below = _owner_at(owner, i - step[0], j - step[1], k - step[2])
+                above = _owner_at(owner, i, j, k)
+                if below < 0 and above < 0:
+                    continue
+                below, above = (below, above) if below >= 0 else (above, above)
+                above = above if above >= 0 else below
+                p[0] = origin[0] + (i + centre[0]) * h
+                p[1] = origin[1] + (j + centre[1]) * h
+                p[2] = origin[2] + (k + centre[2]) * h if three_d else 0.0
+                a = _rigid_speed(origins, linear, angular, below, p, axis)
+                b = _rigid_speed(origins, linear, angular, above, p, axis)
+                face[i, j, k] = 0.5 * (a + b)
 
 
-def _faces_touching_solid(owner: np.ndarray, box: tuple[slice, ...], axis: int):
-    """Faces normal to ``axis`` next to a solid cell of ``box``: indices (n, dim),
-    and the owner links of the cells below and above each (-1: fluid or outside)."""
-    inside = owner[box]
-    widths = [(0, 0)] * owner.ndim
-    widths[axis] = (1, 1)
-    padded = np.pad(inside, widths, constant_values=-1)
-    lo = np.take(padded, range(0, inside.shape[axis] + 1), axis=axis)
-    hi = np.take(padded, range(1, inside.shape[axis] + 2), axis=axis)
-    index = np.argwhere((lo >= 0) | (hi >= 0))
-    first = np.array([b.start for b in box])
-    return index + first, lo[tuple(index.T)], hi[tuple(index.T)]
+@numba.njit(cache=True, inline="always")
+def _owner_at(owner, i, j, k):
+    """``owner[i, j, k]``, or -1 outside the grid."""
+    nx, ny, nz = owner.shape
+    if 0 <= i < nx and 0 <= j < ny and 0 <= k < nz:
+        return owner[i, j, k]
+    return -1
+
+
+@numba.njit(cache=True, inline="always")
+def _rigid_speed(origins, linear, angular, link, p, axis):
+    """Component ``axis`` of ``linear + angular x (p - origin)`` of ``link``, as ``np.cross``
+    computes it (the same numbers as ``_rigid_velocity``)."""
+    w = angular[link]
+    r0, r1, r2 = p[0] - origins[link, 0], p[1] - origins[link, 1], p[2] - origins[link, 2]
+    if axis == 0:
+        return linear[link, 0] + (w[1] * r2 - w[2] * r1)
+    if axis == 1:
+        return linear[link, 1] + (w[2] * r0 - w[0] * r2)
+    return linear[link, 2] + (w[0] * r1 - w[1] * r0)
 
 
 def _per_cell(grid: Grid, cells: np.ndarray, per_row: np.ndarray) -> np.ndarray:

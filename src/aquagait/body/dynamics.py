@@ -323,12 +323,16 @@ class Dynamics:
         ``v_i = v_k + w_k x (p_i - x_k)``.
         """
         points, links = self._check_points(points, links)
+        origins, v_link, w_link = self.link_motion(q, qd)
+        return v_link[links] + np.cross(w_link[links], points - origins[links])
+
+    def link_motion(self, q, qd) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The links' rigid motion: world origins ``x_k`` [m], their velocities ``v_k``
+        [m/s] and angular velocities ``w_k`` [rad/s], each (nlinks, 3)."""
         s = self._at(q)
         jacp, jacr = self._jacobians(s)
         qd = np.asarray(qd, dtype=float)
-        v_link, w_link = jacp @ qd, jacr @ qd
-        r = points - s.data.xpos[1:][links]
-        return v_link[links] + np.cross(w_link[links], r)
+        return s.data.xpos[1:].copy(), jacp @ qd, jacr @ qd
 
     def _check_points(self, points, links):
         points = np.asarray(points, dtype=float).reshape(-1, 3)

@@ -221,8 +221,8 @@ class EulerFluid:
                 "of the grid: start it nearer the grid's centre"
             )
         velocity = grid.zeros_velocity()
-        rigid_faces_(grid, velocity, self._voxels(scene, grid, state.qpos),
-                     _point_velocity(scene, state.qpos, state.qvel))  # fmt: skip
+        voxels = self._voxels(scene, grid, state.qpos)
+        rigid_faces_(grid, velocity, voxels, scene.dynamics.link_motion(state.qpos, state.qvel))
         return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
 
     def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
@@ -234,7 +234,7 @@ class EulerFluid:
         tau, damping = servo_forces(scene, state, dt, policy)
         qvel_star = state.qvel + dt * predict_body(scene, state, dt, tau, damping)
         solved = self._coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping)
-        rigid_faces_(grid, solved.velocity, voxels, _point_velocity(scene, q, solved.qvel))
+        rigid_faces_(grid, solved.velocity, voxels, scene.dynamics.link_motion(q, solved.qvel))
         moved = move_body(scene, state, dt, tau, damping, solved.qvel)
         moved = replace(moved, velocity=solved.velocity, pressure=solved.pressure)
         return follow(scene, moved, self.clearance)
@@ -278,11 +278,6 @@ class EulerFluid:
             "clearance": self.clearance,
             "cfl": self.cfl,
         }
-
-
-def _point_velocity(scene: Scene, q, qd):
-    """The rigid velocity of points moving with links: the body-to-fluid seam."""
-    return lambda points, links: scene.dynamics.point_velocities(q, qd, points, links)
 
 
 FLUIDS = {model.name: model for model in (Vacuum, SimpleFluid, EulerFluid)}
