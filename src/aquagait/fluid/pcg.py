@@ -285,11 +285,34 @@ def _workspace(padded: tuple[int, int, int]):
 
 
 def _low_rank_arrays(system: PressureSystem, padded: tuple[int, int, int]):
+    """The low-rank term's flat padded cells, each once, with its rows summed; and ``C``.
+
+    Rows at the same cell add up (``LowRank``): a cell beside several coupled
+    faces has one row per face, about five per cell for a 3D creature, so
+    summing them first makes each product with ``U`` that much cheaper.
+    """
     lr = system.low_rank
     if lr is None:
         return np.zeros(0, np.int64), np.zeros((0, 0)), np.zeros((0, 0))
-    flat = padded_flat(lr.cells, padded)
-    return flat, np.ascontiguousarray(lr.rows, float), np.ascontiguousarray(lr.core, float)
+    rows = np.ascontiguousarray(lr.rows, float)
+    cells, rows = _summed_rows(padded_flat(lr.cells, padded), rows)
+    return cells, rows, np.ascontiguousarray(lr.core, float)
+
+
+@numba.njit(cache=True, nogil=True)
+def _summed_rows(cells, rows):
+    """The distinct ``cells`` in increasing order, and the sum of the ``rows`` at each."""
+    order = np.argsort(cells, kind="mergesort")
+    distinct = np.empty(cells.size, np.int64)
+    summed = np.zeros_like(rows)
+    n = -1
+    for r in order:
+        if n < 0 or cells[r] != distinct[n]:
+            n += 1
+            distinct[n] = cells[r]
+        for j in range(rows.shape[1]):
+            summed[n, j] += rows[r, j]
+    return distinct[: n + 1], summed[: n + 1]
 
 
 def _partial_arrays(system: PressureSystem, padded: tuple[int, int, int]):
@@ -351,12 +374,18 @@ def _add_partial_(x, below, above, change, diag, out):
 def _add_low_rank_(x, cells, rows, core, out):
     """``out += U C U^T x`` with ``U`` given by its nonzero rows at flat ``cells``."""
     flat_x, flat_out = x.ravel(), out.ravel()
-    w = np.zeros(rows.shape[1])
-    for r in range(cells.shape[0]):
-        w += rows[r] * flat_x[cells[r]]
+    m, k = rows.shape
+    w = np.zeros(k)
+    for r in range(m):
+        xr = flat_x[cells[r]]
+        for j in range(k):
+            w[j] += rows[r, j] * xr
     cw = core @ w
-    for r in range(cells.shape[0]):
-        flat_out[cells[r]] += np.dot(rows[r], cw)
+    for r in range(m):
+        total = 0.0
+        for j in range(k):
+            total += rows[r, j] * cw[j]
+        flat_out[cells[r]] += total
 
 
 @numba.njit(cache=True, fastmath=True, nogil=True)
