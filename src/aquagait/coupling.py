@@ -65,6 +65,7 @@ from functools import cached_property
 import numba
 import numpy as np
 
+from aquagait.body.dynamics import rigid_velocity
 from aquagait.body.voxelize import Voxels, marked
 from aquagait.fluid.operators import net_outflow
 from aquagait.fluid.pcg import LowRank, PartialFaces, PressureSystem, pcg, pressure_system
@@ -318,19 +319,13 @@ def rigid_faces_(grid: Grid, velocity: Velocity, voxels: Voxels, motion: LinkMot
         component[at] = values
     loose = ~watery & ~_touches_owned(voxels)
     if loose.any():  # where links meet, the mean of theirs weighted by their shares
-        speeds = _rigid_velocity(motion, voxels.face_center[loose], voxels.face_link[loose])
+        speeds = rigid_velocity(motion, voxels.face_center[loose], voxels.face_link[loose])
         share = voxels.face_share[loose] / (1.0 - voxels.face_weight[loose])
         axes, index = voxels.face_axis[loose], voxels.face_index[loose]
         for axis, component in enumerate(velocity):
             at = tuple(index[axes == axis].T)
             component[at] = 0.0
             np.add.at(component, at, share[axes == axis] * speeds[axes == axis, axis])
-
-
-def _rigid_velocity(motion: LinkMotion, points: np.ndarray, links: np.ndarray) -> np.ndarray:
-    """The velocity (n, 3) [m/s] of ``points`` (n, 3) moving with ``links`` (n,)."""
-    origins, linear, angular = motion
-    return linear[links] + np.cross(angular[links], points - origins[links])
 
 
 def _coupled_values(velocity: Velocity, voxels: Voxels, chosen: np.ndarray, axis: int):
@@ -403,7 +398,7 @@ def _owner_at(owner, i, j, k):
 @numba.njit(cache=True, inline="always")
 def _rigid_speed(origins, linear, angular, link, p, axis):
     """Component ``axis`` of ``linear + angular x (p - origin)`` of ``link``, as ``np.cross``
-    computes it (the same numbers as ``_rigid_velocity``)."""
+    computes it (the same numbers as ``body.dynamics.rigid_velocity``)."""
     w = angular[link]
     r0, r1, r2 = p[0] - origins[link, 0], p[1] - origins[link, 1], p[2] - origins[link, 2]
     if axis == 0:

@@ -323,8 +323,7 @@ class Dynamics:
         ``v_i = v_k + w_k x (p_i - x_k)``.
         """
         points, links = self._check_points(points, links)
-        origins, v_link, w_link = self.link_motion(q, qd)
-        return v_link[links] + np.cross(w_link[links], points - origins[links])
+        return rigid_velocity(self.link_motion(q, qd), points, links)
 
     def link_motion(self, q, qd) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The links' rigid motion: world origins ``x_k`` [m], their velocities ``v_k``
@@ -395,6 +394,13 @@ class _Scratch:
     def __init__(self, data):
         self.data = data
         self.q = self.qd = self.jac = None
+
+
+def rigid_velocity(motion, points: np.ndarray, links: np.ndarray) -> np.ndarray:
+    """The velocity (n, 3) [m/s] of world ``points`` (n, 3) moving with ``links`` (n,),
+    ``v_k + w_k x (p - x_k)``, given the links' motion ``(x, v, w)`` (``Dynamics.link_motion``)."""
+    origins, linear, angular = motion
+    return linear[links] + np.cross(angular[links], points - origins[links])
 
 
 @numba.njit(cache=True, nogil=True)
