@@ -309,11 +309,12 @@ def rigid_faces_(grid: Grid, velocity: Velocity, voxels: Voxels, motion: LinkMot
     owner = voxels.owner.reshape(voxels.owner.shape + (1,) * (3 - grid.dim))
     origin = np.zeros(3)
     origin[: grid.dim] = grid.origin
+    box = _owned_box(owner)
     watery = voxels.face_weight >= MOSTLY_WATER
     kept = [_coupled_values(velocity, voxels, watery, axis) for axis in range(grid.dim)]
     for axis, component in enumerate(velocity):
         face = component.reshape(component.shape + (1,) * (3 - grid.dim))
-        _owned_faces_(owner, axis, origin, grid.cell_size, grid.dim == 3, origins, linear,
+        _owned_faces_(owner, box, axis, origin, grid.cell_size, grid.dim == 3, origins, linear,
                       angular, face)  # fmt: skip
         at, values = kept[axis]
         component[at] = values
@@ -342,27 +343,37 @@ def _touches_owned(voxels: Voxels) -> np.ndarray:
 
 
 @numba.njit(cache=True, nogil=True)
-def _owned_faces_(owner, axis, origin, h, three_d, origins, linear, angular, face):
-    """Set each face normal to ``axis`` beside an owned cell to its links' velocity.
-
-    ``owner`` (nx, ny, nz; nz = 1 in 2D) holds each cell's link or -1; ``face``
-    is the velocity component normal to ``axis`` in the same layout. A face
-    with owned cells on both sides takes the mean of both links' velocities
-    at its centre (written as ``0.5 (a + b)``, so one link's comes back
-    exactly). Only the box of the owned cells is visited.
-    """
+def _owned_box(owner):
+    """``(2, 3)``: the first and last index per axis of the owned cells (``owner >= 0``)
+    of ``owner`` (nx, ny, nz); the last row is -1 when no cell is owned."""
     nx, ny, nz = owner.shape
-    lo = np.array([nx, ny, nz])
-    hi = np.array([-1, -1, -1])
+    box = np.empty((2, 3), np.int64)
+    box[0, 0], box[0, 1], box[0, 2] = nx, ny, nz
+    box[1, :] = -1
     for i in range(nx):
         for j in range(ny):
             for k in range(nz):
                 if owner[i, j, k] >= 0:
-                    lo[0], hi[0] = min(lo[0], i), max(hi[0], i)
-                    lo[1], hi[1] = min(lo[1], j), max(hi[1], j)
-                    lo[2], hi[2] = min(lo[2], k), max(hi[2], k)
-    if hi[0] < 0:
+                    box[0, 0], box[1, 0] = min(box[0, 0], i), max(box[1, 0], i)
+                    box[0, 1], box[1, 1] = min(box[0, 1], j), max(box[1, 1], j)
+                    box[0, 2], box[1, 2] = min(box[0, 2], k), max(box[1, 2], k)
+    return box
+
+
+@numba.njit(cache=True, nogil=True)
+def _owned_faces_(owner, box, axis, origin, h, three_d, origins, linear, angular, face):
+    """Set each face normal to ``axis`` beside an owned cell to its links' velocity.
+
+    ``owner`` (nx, ny, nz; nz = 1 in 2D) holds each cell's link or -1, ``box``
+    the owned cells' bounds (``_owned_box``); ``face`` is the velocity
+    component normal to ``axis`` in the same layout. A face with owned cells
+    on both sides takes the mean of both links' velocities at its centre
+    (written as ``0.5 (a + b)``, so one link's comes back exactly). Only the
+    faces of the box are visited.
+    """
+    if box[1, 0] < 0:
         return
+    lo, hi = box[0].copy(), box[1].copy()
     hi[axis] += 1  # the faces above the box's last cells
     step = np.zeros(3, np.int64)
     step[axis] = 1
