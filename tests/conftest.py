@@ -1,5 +1,7 @@
 """Models shared by tests in several folders."""
 
+import dataclasses
+
 import pytest
 
 import aquagait as ag
@@ -25,6 +27,13 @@ def two_links() -> str:
 def eel():
     """The library's eel2d creature."""
     return ag.creatures.get("eel2d")
+
+
+@pytest.fixture(scope="session")
+def hand_set_eel(eel):
+    """eel2d swimming its hand-set travelling wave (the side-car's ``hand-set`` gait, its
+    default until the optimized one shipped): for tests whose figures were measured with it."""
+    return dataclasses.replace(eel, default_gait=eel.gaits["hand-set"].params)
 
 
 # A planar body: a 40 mm wide block and behind it a fin plate 2 mm thick, a fifth of a

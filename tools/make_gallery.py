@@ -5,7 +5,9 @@ every library creature (or those named) it swims the shipped gait from rest
 on the creature's default grid and writes ``docs/gallery/NAME.png``, the last
 frame as ``aquagait render`` draws it (3D creatures from the 'follow' view);
 for the fish also ``docs/fish_swim.png``, a contact sheet of six frames of
-its second cycle, three-quarters from behind.
+its second cycle, three-quarters from behind; for eel2d also
+``docs/eel2d_swim.png``, the README's first picture: the last frame of
+``aquagait swim eel2d --seconds 4``.
 """
 
 from __future__ import annotations
@@ -36,6 +38,10 @@ def gallery(name: str) -> None:
         sheet = render_swim(trajectory, model, DOCS / "fish_swim.png", frames, view="follow",
                             **small)  # fmt: skip
         print(f"wrote {sheet}")
+    if name == "eel2d":
+        run = run_swim(prepare_swim(name, seconds=4.0))
+        last = len(run.trajectory.time) - 1
+        print(f"wrote {render_swim(run.trajectory, model, DOCS / 'eel2d_swim.png', [last])}")
 
 
 if __name__ == "__main__":
