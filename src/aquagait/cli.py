@@ -15,6 +15,10 @@ from aquagait.objectives import MANEUVERS
 from aquagait.sim import FLUIDS
 
 NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF file"
+GAIT_HELP = (
+    "a gait.json, or the name of a gait the creature ships (hand-set, optimized, turn-left, "
+    "...; default: its shipped straight gait)"
+)
 
 
 def _cmd_bench(args) -> int:
@@ -400,7 +404,7 @@ def build_parser() -> argparse.ArgumentParser:
         "swim", help="swim a creature with a gait; write trajectory, metrics and video"
     )
     swim.add_argument("name", metavar="NAME", help=NAME_HELP)
-    swim.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
+    swim.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
     swim.add_argument("--maneuver", choices=MANEUVERS,
                       help="swim a learned manoeuvre's shipped gait instead")  # fmt: skip
     swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
@@ -480,7 +484,7 @@ def build_parser() -> argparse.ArgumentParser:
         "compare", help="one gait in the Euler and the simple fluid: distances, plot, video"
     )
     compare.add_argument("name", metavar="NAME", help=NAME_HELP)
-    compare.add_argument("--gait", metavar="FILE", help="gait.json (default: the shipped gait)")
+    compare.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
     compare.add_argument("--seconds", type=float, default=3.0, help="simulated time [s]")
     compare.add_argument("--optimize", type=int, default=0, metavar="G",
                          help="also optimize a gait in each fluid for G generations "

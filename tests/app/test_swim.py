@@ -74,3 +74,14 @@ def test_a_learned_manoeuvre_swims_its_shipped_gait(tmp_path):
         prepare_swim("accordion2d", maneuver="turn-left", fluid="none")
     with pytest.raises(SwimSetupError, match="a gait or a manoeuvre, not both"):
         prepare_swim("eel2d", gait=out / "gait.json", maneuver="turn-left", fluid="none")
+
+
+def test_a_shipped_gait_swims_by_its_name(eel):
+    hand_set = prepare_swim("eel2d", gait="hand-set", seconds=0.2, fluid="none")
+    np.testing.assert_array_equal(hand_set.params, eel.gaits["hand-set"].params)
+    assert hand_set.maneuver == "straight" and hand_set.gait_source == "shipped hand-set"
+    turn = prepare_swim("eel2d", gait="turn-left", seconds=0.2, fluid="none")
+    assert turn.maneuver == "turn-left" and turn.spec is eel.spec("turn-left")
+    np.testing.assert_array_equal(turn.params, eel.maneuver_gait("turn-left"))
+    with pytest.raises(SwimSetupError, match="eel2d's shipped gaits: straight, hand-set, turn"):
+        prepare_swim("eel2d", gait="optimised", fluid="none")

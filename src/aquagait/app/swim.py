@@ -26,6 +26,7 @@ from aquagait.creatures import Creature, CreatureError
 from aquagait.io.gait import GaitFileError, read_gait, write_gait
 from aquagait.io.run import library_versions, write_run
 from aquagait.metrics import NoSteadyWindow, steady_metrics, travel_metrics
+from aquagait.objectives import MANEUVERS
 from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
 
 
@@ -99,8 +100,9 @@ def prepare_swim(
     Args:
         name: a library creature (``aquagait.creatures.names()``) or the path
             of an MJCF file (with its ``.aquagait.json`` side-car, if any).
-        gait: a ``gait.json`` path, a parameter vector, or None for the
-            creature's default gait.
+        gait: a ``gait.json`` path, the name of a gait shipped in the creature's
+            side-car (``hand-set``, ``optimized``, a manoeuvre's), a parameter
+            vector, or None for the creature's default gait.
         seconds: simulated time [s], > 0.
         fluid: 'euler', 'simple' or 'none' (see ``aquagait.make_scene``).
         resolution: cells per axis, default the creature's.
@@ -125,11 +127,14 @@ def prepare_swim(
         except (CreatureError, ValueError) as err:
             raise SwimSetupError(str(err)) from None
         source = f"shipped {maneuver}"
+    elif isinstance(gait, str) and gait in creature.gaits and not Path(gait).exists():
+        params, source, maneuver = _shipped_gait(creature, gait)
     elif isinstance(gait, str | Path):
         try:
             found = read_gait(gait, creature)
         except GaitFileError as err:
-            raise SwimSetupError(str(err)) from None
+            shipped = ", ".join(creature.gaits)
+            raise SwimSetupError(f"{err}; {name}'s shipped gaits: {shipped}") from None
         params, source, maneuver = found.params, str(gait), found.maneuver
     else:
         maneuver = "straight"
@@ -148,6 +153,14 @@ def prepare_swim(
     except ValueError as err:
         raise SwimSetupError(str(err)) from None
     return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver)
+
+
+def _shipped_gait(creature: Creature, name: str) -> tuple[np.ndarray, str, str]:
+    """A gait the side-car ships by ``name``: its parameters, source and manoeuvre (a
+    manoeuvre's own name, or ``straight`` for the other gaits, which share its
+    parameterization)."""
+    maneuver = name if name in MANEUVERS else "straight"
+    return creature.gaits[name].params, f"shipped {name}", maneuver
 
 
 def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
