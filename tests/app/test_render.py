@@ -80,7 +80,7 @@ def fish_run(tmp_path_factory):
     """A short fish swim in the Euler fluid, without its video."""
     pytest.importorskip("moderngl")
     out = tmp_path_factory.mktemp("fish")
-    setup = prepare_swim("fish", seconds=0.2, resolution=(32, 20, 24), cell_size=0.008)
+    setup = prepare_swim("fish", seconds=0.2, resolution=(32, 24, 24), cell_size=0.008)
     write_swim(run_swim(setup), out)
     return out
 
@@ -110,7 +110,7 @@ def test_a_3d_swim_without_opengl_keeps_its_run_and_says_what_to_install(
 
     monkeypatch.setitem(sys.modules, "moderngl", None)  # import moderngl fails
     out = tmp_path / "fish"
-    argv = ["swim", "fish", "--seconds", "0.1", "--resolution", "32", "20", "24",
+    argv = ["swim", "fish", "--seconds", "0.1", "--resolution", "32", "24", "24",
             "--cell-size", "0.008", "--out", str(out)]  # fmt: skip
     assert main(argv) == 0
     err = capsys.readouterr().err

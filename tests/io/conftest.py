@@ -27,4 +27,4 @@ def eel_export(tmp_path_factory):
 @pytest.fixture(scope="session")
 def fish_export(tmp_path_factory):
     """(run directory, SwimExport) of the fish swimming 0.2 s (7 frames) in the Euler fluid, 3D."""
-    return _exported(tmp_path_factory, "fish", 0.2, (32, 20, 24), 0.008)
+    return _exported(tmp_path_factory, "fish", 0.2, (32, 24, 24), 0.008)
