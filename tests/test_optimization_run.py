@@ -19,6 +19,8 @@ from aquagait.app.optimize import (
     prepare_optimization,
     run_optimization,
 )
+from aquagait.creatures.creature import maneuver_start
+from aquagait.io import write_gait
 
 COARSE = dict(resolution=(48, 28), cell_size=0.025)
 """A coarse eel2d grid: 28 cells across hold the shipped gait's 0.19 m sweep and 8 of water
@@ -143,3 +145,22 @@ def test_a_manoeuvre_is_searched_in_its_own_parameters_towards_its_own_goal(tmp_
 def test_a_2d_creature_cannot_learn_a_pitch():
     with pytest.raises(OptimizationSetupError, match="'pitch-up' is for 3D creatures"):
         prepare_optimization("eel2d", maneuver="pitch-up", fluid="none", **COARSE)
+
+
+def test_a_search_starts_from_a_given_gait_with_a_given_spread(tmp_path):
+    eel = ag.creatures.get("eel2d")
+    setup = prepare_optimization("eel2d", start="hand-set", step=0.05, **COARSE)
+    np.testing.assert_array_equal(setup.problem.x0, eel.gaits["hand-set"].params)
+    width = eel.gait.upper - eel.gait.lower  # each parameter's spread: 5% of its range
+    assert setup.problem.sigma0 * width / width.mean() == pytest.approx(0.05 * width)
+    assert setup.config()["start"] == "hand-set" and setup.config()["step"] == 0.05
+    turn = prepare_optimization("eel2d", maneuver="turn-left", start="hand-set", **COARSE)
+    hand_set = eel.gait.unpack(eel.gaits["hand-set"].params)
+    np.testing.assert_array_equal(turn.problem.x0, maneuver_start(eel, "turn-left", hand_set))
+    with pytest.raises(OptimizationSetupError, match="shipped gaits: straight, hand-set"):
+        prepare_optimization("eel2d", start="handset", **COARSE)
+    with pytest.raises(OptimizationSetupError, match=r"step must be in \(0, 1\]"):
+        prepare_optimization("eel2d", step=0.0, **COARSE)
+    wide = write_gait(tmp_path / "wide.json", eel, np.r_[1.0, eel.default_gait[1:]])
+    with pytest.raises(OptimizationSetupError, match=r"outside eel2d's search bounds: ampl"):
+        prepare_optimization("eel2d", start=wide, **COARSE)

@@ -50,6 +50,10 @@ def provenance(run: Path) -> dict:
         command += ["--resolution", *map(str, opt["resolution"])]
     if opt["cell_size"] is not None:
         command += ["--cell-size", f"{opt['cell_size']:g}"]
+    if opt.get("start") is not None:
+        command += ["--start", opt["start"]]
+    if opt.get("step") is not None:
+        command += ["--step", f"{opt['step']:g}"]
     metrics = json.loads((run / "metrics.json").read_text())
     return {
         "method": "optimized",

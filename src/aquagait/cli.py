@@ -169,6 +169,8 @@ def _cmd_optimize(args) -> int:
             coarse=args.coarse,
             refine_top=args.refine_top,
             maneuver=args.maneuver,
+            start=args.start,
+            step=args.step,
         )
         label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
         out = output_directory(args.out or Path("runs") / label)
@@ -442,6 +444,12 @@ def build_parser() -> argparse.ArgumentParser:
     optimize.add_argument("--maneuver", choices=MANEUVERS, default="straight",
                           help="learn a manoeuvre (paper §5; 2D creatures turn, 3D ones "
                           "also pitch): offsets freed, rotation rewarded")  # fmt: skip
+    optimize.add_argument("--start", metavar="FILE|NAME",
+                          help="start the search from this gait: a gait.json or a shipped "
+                          "gait's name (default: the shipped straight gait)")  # fmt: skip
+    optimize.add_argument("--step", type=float, metavar="F",
+                          help="initial spread of each parameter, a fraction of its range "
+                          "(default 0.25; smaller polishes the start)")  # fmt: skip
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=_cmd_optimize)

@@ -26,7 +26,7 @@ import numpy as np
 from aquagait import creatures, objectives
 from aquagait.app.coarse import coarse_grid
 from aquagait.app.errors import SetupError
-from aquagait.app.resolve import creature_key, find_creature
+from aquagait.app.resolve import creature_key, find_creature, find_gait
 from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT, maneuver_start
@@ -125,6 +125,10 @@ class OptimizationSetup:
             grid and ``objective`` the one on the coarse grid.
         settings: population, generations, seed.
         notes: what to know about the search (a coarse grid that may rank poorly).
+        start: the gait the search started from (a file or a shipped gait's name),
+            None for the default start.
+        step: the initial standard deviation as a fraction of each range, None
+            for the default (a quarter).
     """
 
     creature: Creature
@@ -132,6 +136,8 @@ class OptimizationSetup:
     problem: Problem
     settings: Settings
     notes: tuple[str, ...] = ()
+    start: str | None = None
+    step: float | None = None
 
     @property
     def target(self) -> SwimObjective:
@@ -150,7 +156,8 @@ class OptimizationSetup:
             direction=list(o.direction),
             weights=vars(o.weights), energy_bound=self.creature.energy_bound,
             popsize=s.popsize, generations=s.generations, seed=s.seed,
-            parameters=list(self.problem.names), x0=self.problem.x0.tolist(),
+            parameters=list(self.problem.names), start=self.start, step=self.step,
+            x0=self.problem.x0.tolist(),
             lower=self.problem.lower.tolist(), upper=self.problem.upper.tolist(),
             sigma0=self.problem.sigma0,
             target_grid=None if self.problem.refine is None else
@@ -171,6 +178,8 @@ def prepare_optimization(
     coarse: float | None = None,
     refine_top: int = 2,
     maneuver: str = STRAIGHT,
+    start=None,
+    step: float | None = None,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -190,6 +199,13 @@ def prepare_optimization(
             (``objectives.MANEUVERS``): its offsets freed, the desired direction
             half way to the turn, a reward for rotating about its axis
             (``objectives.total``); the search starts from the straight gait.
+        start: where the search starts: a ``gait.json`` or the name of a shipped gait
+            (``aquagait.app.resolve.find_gait``), turned into ``maneuver``'s
+            parameters; None: the shipped gait (straight) or the straight gait (a
+            manoeuvre). From a good gait with a small ``step``: a local polish.
+        step: the initial standard deviation of each parameter, as a fraction of
+            its range (0 < step <= 1); None: a quarter (``Problem.sigma0``).
+
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
     """
@@ -218,7 +234,9 @@ def prepare_optimization(
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     gait = creature.spec(maneuver)
-    x0 = maneuver_start(creature, maneuver)
+    x0 = _start(creature, maneuver, start)
+    if step is not None and not 0 < step <= 1:
+        raise OptimizationSetupError(f"step must be in (0, 1], a share of each range; got {step}")
     period = float(np.max(gait.unpack(x0).period))
     seconds = cycles * period
     objective = SwimObjective(
@@ -234,7 +252,7 @@ def prepare_optimization(
         x0=x0,
         lower=gait.lower,
         upper=gait.upper,
-        sigma0=None,  # a quarter of every parameter's range
+        sigma0=None if step is None else step * float(np.mean(gait.upper - gait.lower)),
         feasible=JointLimits(key, maneuver),
         groups=tuple(gait.group_indices(k) for k in range(len(groups))) if len(groups) > 1 else (),
         names=gait.names,
@@ -245,7 +263,30 @@ def prepare_optimization(
                             refine_top=refine_top)  # fmt: skip
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
-    return OptimizationSetup(creature, objective, problem, settings, notes)
+    start = None if start is None else str(start)
+    return OptimizationSetup(creature, objective, problem, settings, notes, start, step)
+
+
+def _start(creature: Creature, maneuver: str, start) -> np.ndarray:
+    """``prepare_optimization``'s start, in ``maneuver``'s parameters, inside their bounds."""
+    if start is None:
+        return maneuver_start(creature, maneuver)
+    try:
+        params, _, kind = find_gait(creature, start)
+    except SetupError as err:
+        raise OptimizationSetupError(str(err)) from None
+    spec = creature.spec(maneuver)
+    x0 = maneuver_start(creature, maneuver, creature.spec(kind).unpack(params))
+    outside = [
+        f"{name} = {value:.4g} (bounds [{lo:.4g}, {hi:.4g}])"
+        for name, value, lo, hi in zip(spec.names, x0, spec.lower, spec.upper, strict=True)
+        if not lo <= value <= hi
+    ]
+    if outside:
+        raise OptimizationSetupError(
+            f"the start {start} lies outside {creature.name}'s search bounds: " + "; ".join(outside)
+        )
+    return x0
 
 
 def run_optimization(

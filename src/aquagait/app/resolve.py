@@ -1,14 +1,19 @@
 """NAME or PATH: every job takes a library creature's name or a path to an MJCF file;
+a gait is a ``gait.json`` or the name of a gait the creature ships (``find_gait``);
 a run directory says which creature swam (``run_creature``)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from aquagait import creatures
 from aquagait.app.errors import SetupError
 from aquagait.creatures import Creature
+from aquagait.io.gait import GaitFileError, read_gait
 from aquagait.io.run import Run, read_run
+from aquagait.objectives import MANEUVERS
 
 
 def find_creature(name_or_path: str | Path) -> Creature:
@@ -34,6 +39,30 @@ def creature_key(creature: Creature) -> str:
     if creature.name in creatures.names() and creatures.get(creature.name) is creature:
         return creature.name
     return str(Path(creature.source).resolve())
+
+
+def find_gait(creature: Creature, gait: str | Path) -> tuple[np.ndarray, str, str]:
+    """A gait of ``creature``: the name of one its side-car ships (``hand-set``,
+    ``optimized``, a manoeuvre's), or the path of a ``gait.json``.
+
+    Returns:
+        ``(params, source, maneuver)``: the parameter vector, where it came from
+        (``shipped NAME`` or the path) and the manoeuvre whose parameterization it is
+        in (a manoeuvre's own name; ``straight`` for the other shipped gaits).
+
+    Raises:
+        SetupError: no such file or shipped gait (the message lists the shipped
+            ones), or a file that is not this creature's gait.
+    """
+    if isinstance(gait, str) and gait in creature.gaits and not Path(gait).exists():
+        maneuver = gait if gait in MANEUVERS else "straight"
+        return creature.gaits[gait].params, f"shipped {gait}", maneuver
+    try:
+        found = read_gait(gait, creature)
+    except GaitFileError as err:
+        shipped = ", ".join(creature.gaits)
+        raise SetupError(f"{err}; {creature.name}'s shipped gaits: {shipped}") from None
+    return found.params, str(gait), found.maneuver
 
 
 def run_creature(run_dir) -> tuple[Run, Creature]:

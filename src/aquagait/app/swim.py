@@ -21,12 +21,11 @@ import numpy as np
 
 from aquagait.app.errors import SetupError
 from aquagait.app.render import draw_swim
-from aquagait.app.resolve import creature_key, find_creature
+from aquagait.app.resolve import creature_key, find_creature, find_gait
 from aquagait.creatures import Creature, CreatureError
-from aquagait.io.gait import GaitFileError, read_gait, write_gait
+from aquagait.io.gait import write_gait
 from aquagait.io.run import library_versions, write_run
 from aquagait.metrics import NoSteadyWindow, steady_metrics, travel_metrics
-from aquagait.objectives import MANEUVERS
 from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
 
 
@@ -127,15 +126,11 @@ def prepare_swim(
         except (CreatureError, ValueError) as err:
             raise SwimSetupError(str(err)) from None
         source = f"shipped {maneuver}"
-    elif isinstance(gait, str) and gait in creature.gaits and not Path(gait).exists():
-        params, source, maneuver = _shipped_gait(creature, gait)
     elif isinstance(gait, str | Path):
         try:
-            found = read_gait(gait, creature)
-        except GaitFileError as err:
-            shipped = ", ".join(creature.gaits)
-            raise SwimSetupError(f"{err}; {name}'s shipped gaits: {shipped}") from None
-        params, source, maneuver = found.params, str(gait), found.maneuver
+            params, source, maneuver = find_gait(creature, gait)
+        except SetupError as err:
+            raise SwimSetupError(str(err)) from None
     else:
         maneuver = "straight"
         params = creature.default_gait if gait is None else np.asarray(gait, dtype=float)
@@ -153,14 +148,6 @@ def prepare_swim(
     except ValueError as err:
         raise SwimSetupError(str(err)) from None
     return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver)
-
-
-def _shipped_gait(creature: Creature, name: str) -> tuple[np.ndarray, str, str]:
-    """A gait the side-car ships by ``name``: its parameters, source and manoeuvre (a
-    manoeuvre's own name, or ``straight`` for the other gaits, which share its
-    parameterization)."""
-    maneuver = name if name in MANEUVERS else "straight"
-    return creature.gaits[name].params, f"shipped {name}", maneuver
 
 
 def run_swim(setup: SwimSetup, progress=None) -> SwimRun:

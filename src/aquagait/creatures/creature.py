@@ -199,11 +199,12 @@ def maneuver_spec(spec: GaitSpec, model: Model, maneuver: str) -> GaitSpec:
     )  # fmt: skip
 
 
-def maneuver_start(creature: Creature, maneuver: str) -> np.ndarray:
-    """Where a manoeuvre's search starts: the straight gait in the manoeuvre's parameters."""
+def maneuver_start(creature: Creature, maneuver: str, gait: SineGait | None = None) -> np.ndarray:
+    """Where a manoeuvre's search starts: ``gait`` (default the straight gait) in the
+    manoeuvre's parameters."""
     spec = creature.spec(maneuver)
-    straight: SineGait = creature.gait.unpack(creature.default_gait)
-    return spec.vector(straight.on(spec.dofs))
+    gait = creature.gait.unpack(creature.default_gait) if gait is None else gait
+    return spec.vector(gait.on(spec.dofs))
 
 
 def actuated_dof_names(model: Model) -> tuple[str, ...]:
