@@ -161,3 +161,29 @@ def test_pitching_up_turns_the_nose_up_and_only_unwanted_rotation_deviates():
         obj.maneuver_goal("pitch-up", 2)
     with pytest.raises(ValueError, match="unknown manoeuvre 'loop'; manoeuvres: straight, "):
         obj.maneuver_goal("loop", 3)
+
+
+def test_with_the_gait_period_the_rotation_is_free_of_the_recoil_within_a_cycle(eel):
+    """A heading that turned by 0.1 rad, plus a yaw of +-0.3 rad at the gait frequency that
+    grows from rest over the first cycle (a fish's head recoiling every tail beat): the
+    last frame sees the yaw at whatever moment of its beat the run ends; the mean over the
+    last cycle sees only the turn."""
+    time = np.arange(61) / 30  # two cycles of 1 s
+    for phase in (0.0, 1.0, 2.0):
+        recoil = np.minimum(time, 1.0) * np.sin(2 * np.pi * time + phase)
+        yaw = 0.1 * time / 2 + 0.3 * recoil
+        path = np.zeros((61, eel.model.nq))
+        path[:, 2] = yaw
+        planar = trajectory(path)
+        assert obj.rotation_vector(eel.model, planar)[2] == pytest.approx(0.1 + 0.3 * np.sin(phase))
+        # the mean over the last cycle's 30 frames (1/30 s to 2 s): the turn at their mean time
+        turn = 0.1 * time[31:].mean() / 2
+        assert obj.rotation_vector(eel.model, planar, period=1.0)[2] == pytest.approx(turn)
+        fish = ag.creatures.get("fish").model
+        spatial = np.tile(fish.qpos0, (61, 1))
+        spatial[:, 3:7] = np.c_[np.cos(yaw / 2), 0 * yaw, 0 * yaw, np.sin(yaw / 2)]  # about z
+        turned = obj.rotation_vector(fish, trajectory(spatial), period=1.0)
+        np.testing.assert_allclose(turned, [0, 0, turn], atol=0.002)  # a chordal mean
+        assert obj.deviation(fish, trajectory(spatial), (1, 0, 0), period=1.0) == pytest.approx(
+            np.linalg.norm(turned)
+        )

@@ -7,7 +7,9 @@ Over a run of (by default) two gait cycles, minimized:
 - ``E_distance = -d . dp``: the root's displacement ``dp`` along the desired
   direction ``d`` (a unit vector), negated [m].
 - ``E_deviation = |dp - (d . dp) d| + |dtheta|``: sideways drift [m] plus the
-  root's change of orientation as an exponential map (its angle) [rad].
+  root's change of orientation as an exponential map (its angle) [rad], from
+  the start to its mean orientation over the last gait cycle, so that the
+  body's recoil within a cycle does not count (``rotation_vector``).
 - ``E_energy``: actuator work, the integral of ``sum_i |tau_i qd_i| dt`` [J];
   its weight is 0 while the work stays below the creature's energy bound and
   ``w_energy`` (1) above it, so that within the bound only speed counts.
@@ -110,16 +112,30 @@ def maneuver_goal(name: str, dim: int) -> tuple[np.ndarray, np.ndarray | None]:
     return d, None if axis is None else np.asarray(axis, dtype=float)
 
 
-def rotation_vector(model: Model, traj: Trajectory) -> np.ndarray:
+def rotation_vector(model: Model, traj: Trajectory, period: float | None = None) -> np.ndarray:
     """The root's change of orientation over the run as a world rotation vector (3,) [rad].
 
+    From the first frame to the last; with ``period`` [s], to the root's mean
+    orientation over the last ``period`` seconds instead: free of the body's
+    recoil within a gait cycle. (The fish's head yaws +-0.15-0.3 rad every tail
+    beat: measured at the last frame, its change swings from -0.08 to +0.29 rad
+    with the moment of the beat at which the run ends, which a search then
+    tunes through the gait's common phase instead of swimming straighter.)
+
     2D: ``(0, 0, dtheta)``, the planar root's hinge angle change; 3D: the
-    exponential map of ``q_end q_start^-1``.
+    exponential map of ``q_end q_start^-1``, ``q_end`` the chordal mean of the
+    last cycle's orientations.
     """
+    if period is None:
+        last = np.array([len(traj.time) - 1])
+    else:  # one cycle's frames, each phase of the beat once
+        last = np.flatnonzero(traj.time > traj.time[-1] - period + 1e-9 * period)
     if model.dim == 2:
-        return np.array([0.0, 0.0, traj.qpos[-1, 2] - traj.qpos[0, 2]])
-    start, end = traj.qpos[0, 3:7], traj.qpos[-1, 3:7]
-    return quat_log(quat_mul(end, quat_conj(start)))
+        return np.array([0.0, 0.0, traj.qpos[last, 2].mean() - traj.qpos[0, 2]])
+    quats = traj.qpos[last, 3:7]
+    quats = quats * np.where(quats @ quats[-1] < 0, -1.0, 1.0)[:, None]  # one hemisphere
+    end = quats.mean(axis=0)
+    return quat_log(quat_mul(end / np.linalg.norm(end), quat_conj(traj.qpos[0, 3:7])))
 
 
 def root_rotation(model: Model, traj: Trajectory) -> float:
@@ -127,10 +143,13 @@ def root_rotation(model: Model, traj: Trajectory) -> float:
     return float(np.linalg.norm(rotation_vector(model, traj)))
 
 
-def turning(model: Model, traj: Trajectory, axis, limit: float = TURN) -> float:
+def turning(
+    model: Model, traj: Trajectory, axis, limit: float = TURN, period: float | None = None
+) -> float:
     """``E_turn = -min(r . dtheta, limit)`` [rad]: more negative is more rotation about the
-    axis ``r``, up to ``limit``."""
-    return -min(float(np.asarray(axis, dtype=float) @ rotation_vector(model, traj)), limit)
+    axis ``r``, up to ``limit`` (``dtheta``: ``rotation_vector`` with ``period``)."""
+    rotation = rotation_vector(model, traj, period)
+    return -min(float(np.asarray(axis, dtype=float) @ rotation), limit)
 
 
 def distance(model: Model, traj: Trajectory, direction) -> float:
@@ -138,15 +157,18 @@ def distance(model: Model, traj: Trajectory, direction) -> float:
     return -float(_unit(direction, model.dim) @ root_displacement(model, traj))
 
 
-def deviation(model: Model, traj: Trajectory, direction, axis=None) -> float:
-    """``E_deviation = |dp - (d . dp) d| + |dtheta|``: drift [m] plus turning [rad].
+def deviation(
+    model: Model, traj: Trajectory, direction, axis=None, period: float | None = None
+) -> float:
+    """``E_deviation = |dp - (d . dp) d| + |dtheta|``: drift [m] plus turning [rad]
+    (``dtheta``: ``rotation_vector`` with ``period``).
 
     With a manoeuvre's ``axis`` ``r``, only the unwanted rotation counts:
     ``|dtheta - (r . dtheta) r|``.
     """
     d = _unit(direction, model.dim)
     dp = root_displacement(model, traj)
-    rotation = rotation_vector(model, traj)
+    rotation = rotation_vector(model, traj, period)
     if axis is not None:
         r = np.asarray(axis, dtype=float)
         rotation = rotation - (r @ rotation) * r
@@ -198,13 +220,16 @@ def total(
     energy_bound: float,
     weights: Weights = Weights(),  # noqa: B008 (frozen)
     axis=None,
+    period: float | None = None,
 ) -> float:
-    """The objective ``E`` of a run (module docstring); a manoeuvre's with its ``axis``."""
+    """The objective ``E`` of a run (module docstring); a manoeuvre's with its ``axis``;
+    with the gait's ``period`` [s], the rotation is measured free of recoil
+    (``rotation_vector``)."""
     model = scene.model
     value = distance(model, traj, direction)
-    value += weights.deviation * deviation(model, traj, direction, axis)
+    value += weights.deviation * deviation(model, traj, direction, axis, period)
     if axis is not None:
-        value += turning(model, traj, axis)
+        value += turning(model, traj, axis, period=period)
     value += energy(traj, energy_bound, weights.energy)
     if weights.collision:
         value += weights.collision * collision(scene, traj)

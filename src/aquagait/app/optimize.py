@@ -81,10 +81,12 @@ class SwimObjective:
     def __call__(self, params) -> float:
         creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid,
                                  self.clearance)  # fmt: skip
-        policy = creature.policy(np.asarray(params, dtype=float), self.maneuver)
+        params = np.asarray(params, dtype=float)
+        policy = creature.policy(params, self.maneuver)
         traj = rollout(scene, init_state(scene), policy, self.seconds, record_fluid=False)
+        period = float(np.max(creature.spec(self.maneuver).unpack(params).period))
         return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights,
-                                axis=self.axis)  # fmt: skip
+                                axis=self.axis, period=period)  # fmt: skip
 
 
 @functools.lru_cache(maxsize=4)
