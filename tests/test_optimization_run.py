@@ -162,5 +162,5 @@ def test_a_search_starts_from_a_given_gait_with_a_given_spread(tmp_path):
     with pytest.raises(OptimizationSetupError, match=r"step must be in \(0, 1\]"):
         prepare_optimization("eel2d", step=0.0, **COARSE)
     wide = write_gait(tmp_path / "wide.json", eel, np.r_[1.0, eel.default_gait[1:]])
-    with pytest.raises(OptimizationSetupError, match=r"outside eel2d's search bounds: ampl"):
+    with pytest.raises(OptimizationSetupError, match=r"wide.json is outside its bounds: ampl"):
         prepare_optimization("eel2d", start=wide, **COARSE)

@@ -29,7 +29,7 @@ from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature, find_gait
 from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
-from aquagait.creatures.creature import STRAIGHT, maneuver_start
+from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
@@ -270,24 +270,18 @@ def prepare_optimization(
 
 
 def _start(creature: Creature, maneuver: str, start) -> np.ndarray:
-    """``prepare_optimization``'s start, in ``maneuver``'s parameters, inside their bounds."""
+    """``prepare_optimization``'s start, in ``maneuver``'s parameters: an admissible gait
+    (inside their bounds and the joint limits)."""
     if start is None:
         return maneuver_start(creature, maneuver)
     try:
         params, _, kind = find_gait(creature, start)
     except SetupError as err:
         raise OptimizationSetupError(str(err)) from None
-    spec = creature.spec(maneuver)
     x0 = maneuver_start(creature, maneuver, creature.spec(kind).unpack(params))
-    outside = [
-        f"{name} = {value:.4g} (bounds [{lo:.4g}, {hi:.4g}])"
-        for name, value, lo, hi in zip(spec.names, x0, spec.lower, spec.upper, strict=True)
-        if not lo <= value <= hi
-    ]
-    if outside:
-        raise OptimizationSetupError(
-            f"the start {start} lies outside {creature.name}'s search bounds: " + "; ".join(outside)
-        )
+    problems = gait_problems(creature.spec(maneuver), x0, *creature.gait_limits(maneuver))
+    if problems:
+        raise OptimizationSetupError(f"{creature.name}'s start {start} " + "; ".join(problems))
     return x0
 
 
