@@ -3,6 +3,7 @@
 import dataclasses
 import json
 import pickle
+import re
 import subprocess
 import sys
 import time
@@ -164,3 +165,17 @@ def test_a_search_starts_from_a_given_gait_with_a_given_spread(tmp_path):
     wide = write_gait(tmp_path / "wide.json", eel, np.r_[1.0, eel.default_gait[1:]])
     with pytest.raises(OptimizationSetupError, match=r"wide.json is outside its bounds: ampl"):
         prepare_optimization("eel2d", start=wide, **COARSE)
+
+
+def test_a_grid_too_narrow_for_the_search_s_gaits_is_named_with_one_that_holds_them():
+    """48x20 cells of 25 mm hold the straight eel (3.5 cm across and 8 cells of water either
+    side), not its gaits: the shipped one takes 0.17 m across, 7 cells. The note counts the
+    gaits drawn around the start that would not fit and names a resolution that holds nine
+    in ten of them, where no note is given."""
+    narrow = prepare_optimization("eel2d", resolution=(48, 20), cell_size=0.025)
+    (note,) = narrow.notes
+    found = re.search(r"(\d+) of 64 gaits drawn .* --resolution (\d+) (\d+) would hold", note)
+    assert int(found[1]) > 16 and int(found[3]) > 20
+    wider = (int(found[2]), int(found[3]))
+    assert prepare_optimization("eel2d", resolution=wider, cell_size=0.025).notes == ()
+    assert prepare_optimization("eel2d", **COARSE).notes == ()

@@ -33,6 +33,7 @@ from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
+from aquagait.sim.follow import cells_around, widest_box
 
 DEFAULT_CYCLES = 2.0
 """Gait cycles simulated per sample (paper §4)."""
@@ -228,7 +229,7 @@ def prepare_optimization(
             f"got {list(resolution)}"
         )
     try:  # build the scene now, so a bad grid fails before any worker starts
-        _scene(key, _tuple(resolution), cell_size, fluid)
+        _, scene = _scene(key, _tuple(resolution), cell_size, fluid)
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     try:
@@ -265,8 +266,52 @@ def prepare_optimization(
                             refine_top=refine_top)  # fmt: skip
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
+    notes += _room_notes(scene, gait, problem)
     start = None if start is None else str(start)
     return OptimizationSetup(creature, objective, problem, settings, notes, start, step)
+
+
+ROOM_DRAWS = 64
+"""Gaits drawn around the start to judge whether the grid holds the search's samples."""
+
+ROOM_SHARE = 0.75
+"""Below this share of those draws fitting the grid, ``prepare_optimization`` says so."""
+
+
+def _room_notes(scene: Scene, gait, problem: Problem) -> tuple[str, ...]:
+    """A note when many gaits drawn around the start, as CMA-ES's first generation spreads
+    them, would not fit the grid: each such sample costs a swim and scores the penalty.
+
+    The draws are the start plus each coordinate's initial spread (``sigma0``
+    scaled by its range, as ``optimize`` gives pycma) times a normal number,
+    clipped to the bounds, from a fixed generator (a diagnostic, not a
+    search); each is judged by its widest box over a cycle (``widest_box``),
+    centred, against the grid less the clearance on either side.
+    """
+    if scene.grid is None or not hasattr(scene.fluid, "clearance"):
+        return ()
+    grid, clearance = scene.grid, scene.fluid.clearance
+    width = problem.upper - problem.lower
+    spread = problem.sigma0 * width / width.mean()
+    draws = np.random.default_rng(0).standard_normal((ROOM_DRAWS, len(problem.x0)))
+    needed = []
+    for z in draws:
+        x = np.clip(problem.x0 + spread * z, problem.lower, problem.upper)
+        box = np.stack([np.zeros(scene.model.dim), widest_box(scene, gait.unpack(x))])
+        needed.append(cells_around(box, box.mean(axis=0), grid.cell_size, clearance))
+    needed = np.array(needed)
+    fits = np.all(needed <= np.asarray(grid.shape), axis=1)
+    if fits.mean() >= ROOM_SHARE:
+        return ()
+    wider = np.maximum(np.ceil(np.percentile(needed, 90, axis=0)).astype(int), grid.shape)
+    return (
+        f"{np.count_nonzero(~fits)} of {ROOM_DRAWS} gaits drawn around the start would not fit "
+        f"the {'x'.join(map(str, grid.shape))} grid of {grid.cell_size:g} m cells with "
+        f"{clearance:g} cells of water on every side (their widest poses over a cycle): such "
+        f"a sample costs a whole swim and scores the penalty, and the search learns the grid's "
+        f"size, not the swimming. --resolution {' '.join(map(str, wider))} would hold about 90% "
+        "of them (or larger cells: --cell-size)",
+    )
 
 
 def _start(creature: Creature, maneuver: str, start) -> np.ndarray:

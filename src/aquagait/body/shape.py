@@ -175,16 +175,30 @@ def world_bounds(shape: BodyShape, link_pos, link_rot) -> np.ndarray:
         link_pos: (nl, 3) world origins of the links [m].
         link_rot: (nl, 3, 3) world rotations of the links.
     """
-    has_geoms = shape.dims[:, 0] > 0
-    lo, hi = shape.bounds[has_geoms, 0], shape.bounds[has_geoms, 1]
+    world = link_box_corners(shape, link_pos, link_rot)[0].reshape(-1, 3)
+    return np.stack([world.min(axis=0), world.max(axis=0)])
+
+
+def link_box_corners(shape: BodyShape, link_pos, link_rot) -> tuple[np.ndarray, np.ndarray]:
+    """The world corners of each link's rest-frame box of geoms at a pose (``world_bounds``):
+    (n, 8, 3) [m] for the n links that have geoms, and those links' indices (n,)."""
+    links = np.flatnonzero(shape.dims[:, 0] > 0)
+    lo, hi = shape.bounds[links, 0], shape.bounds[links, 1]
     if shape.dim == 2:
         lo, hi = lo * [1, 1, 0], hi * [1, 1, 0]  # the cross-section at z = 0
-    turn = np.asarray(link_rot)[has_geoms] @ np.swapaxes(shape.rest_rot[has_geoms], 1, 2)
-    return turned_boxes(lo, hi, np.asarray(link_pos)[has_geoms], turn)
+    turn = np.asarray(link_rot)[links] @ np.swapaxes(shape.rest_rot[links], 1, 2)
+    return box_corners(lo, hi, np.asarray(link_pos)[links], turn), links
 
 
 def turned_boxes(lo, hi, pos, turn) -> np.ndarray:
-    """The world box, (2, 3) lower and upper corners [m], holding n boxes turned and placed.
+    """The world box, (2, 3) lower and upper corners [m], holding n boxes turned and placed
+    (arguments as ``box_corners``)."""
+    world = box_corners(lo, hi, pos, turn).reshape(-1, 3)
+    return np.stack([world.min(axis=0), world.max(axis=0)])
+
+
+def box_corners(lo, hi, pos, turn) -> np.ndarray:
+    """The world corners of n boxes turned and placed, (n, 8, 3) [m].
 
     Args:
         lo, hi: (n, 3) corners of each box in its own frame [m].
@@ -194,8 +208,7 @@ def turned_boxes(lo, hi, pos, turn) -> np.ndarray:
     corners = np.stack(
         [np.where(np.array(c, bool), hi, lo) for c in np.ndindex(2, 2, 2)], axis=1
     )  # (n, 8, 3)
-    world = (pos[:, None, :] + np.einsum("kij,kcj->kci", turn, corners)).reshape(-1, 3)
-    return np.stack([world.min(axis=0), world.max(axis=0)])
+    return pos[:, None, :] + np.einsum("kij,kcj->kci", turn, corners)
 
 
 def _bake_link(facts, faces, geoms, k, bounds, spacing, dim):
