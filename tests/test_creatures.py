@@ -21,6 +21,8 @@ from aquagait.creatures import (
     register,
     resolve,
 )
+from aquagait.sim import CLEARANCE
+from aquagait.sim.follow import widest_box
 
 RHO = 1000.0
 
@@ -275,3 +277,14 @@ def test_resolve_takes_a_name_or_a_path():
         resolve("shark")
     with pytest.raises(CreatureError, match="shark.xml does not exist"):
         resolve("shark.xml")
+
+
+@pytest.mark.parametrize("name", ag.creatures.names())
+def test_every_default_grid_holds_its_shipped_gait_with_the_clearance(name):
+    """The shipped gait's widest pose (``widest_box``, the body turned back as a free swimmer
+    recoils) fits the default grid with 8 cells of water either side, centred."""
+    creature = ag.creatures.get(name)
+    scene = ag.make_scene(creature, fluid="euler")
+    sides = widest_box(scene, creature.spec("straight").unpack(creature.default_gait))
+    cells = sides / creature.cell_size + 2 * CLEARANCE
+    assert np.all(cells <= np.asarray(creature.resolution)), (cells, creature.resolution)

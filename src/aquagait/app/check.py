@@ -44,10 +44,11 @@ from aquagait.body.subcell import voxelize_subcell
 from aquagait.body.voxelize import Voxels, voxelize
 from aquagait.control.pd import gains
 from aquagait.creatures import Creature
+from aquagait.creatures.creature import STRAIGHT
 from aquagait.grid import Grid
 from aquagait.io.run import read_json, write_json
 from aquagait.sim import CLEARANCE, Scene, make_scene
-from aquagait.sim.follow import check_room, room
+from aquagait.sim.follow import cells_around, check_room, room, widest_box
 
 THIN_CELLS = 2.0
 """A link should be at least this many cells thick (DESIGN.md §2.8)."""
@@ -162,7 +163,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "dofs": _dofs(creature),
         "gait": _gait(creature),
         "grid": _grid(creature, grid),
-        "clearance": _clearance(creature, grid),
+        "clearance": _clearance(creature, setup.scene),
         "energy_bound": float(creature.energy_bound),
         "pd": {
             "natural_frequency": creature.natural_frequency,
@@ -303,16 +304,25 @@ def _grid(creature: Creature, grid: Grid) -> dict:
     }
 
 
-def _clearance(creature: Creature, grid: Grid) -> dict:
-    """Does the default grid hold the body with the Euler fluid's clearance? (``make_scene``)."""
-    model = creature.model
+def _clearance(creature: Creature, scene: Scene) -> dict:
+    """Does the default grid hold the body with the Euler fluid's clearance (``make_scene``),
+    at rest and at its shipped gait's widest pose (``widest_box``)?"""
+    model, grid = creature.model, scene.grid
     water = float(room(grid, model.bounds[:, : model.dim]).min())
     try:
         check_room(model, grid, CLEARANCE)  # what make_scene(..., fluid="euler") asks
         error = None
     except ValueError as err:
         error = str(err)
-    return {"cells": CLEARANCE, "room": water, "holds": error is None, "error": error}
+    sides = widest_box(scene, creature.spec(STRAIGHT).unpack(creature.default_gait))
+    swimming = (np.asarray(grid.shape) - sides / grid.cell_size) / 2  # centred, per axis
+    return {
+        "cells": CLEARANCE, "room": water, "holds": error is None, "error": error,
+        "gait_box": sides.tolist(), "gait_room": float(swimming.min()),
+        "gait_resolution": [int(n) for n in np.maximum(
+            grid.shape, cells_around(np.stack([0 * sides, sides]), sides / 2, grid.cell_size,
+                                     CLEARANCE))],
+    }  # fmt: skip
 
 
 def _warnings(numbers: dict, shape: BodyShape) -> list[str]:
@@ -322,8 +332,16 @@ def _warnings(numbers: dict, shape: BodyShape) -> list[str]:
     for k, row in enumerate(numbers["links"]):
         if row["volume"] > 0 and row["thickness"] < THIN_CELLS * h - s:
             out.append(_thin_warning(row, shape, k, numbers["grid"]))
-    if not numbers["clearance"]["holds"]:
-        out.append(f"the default grid is too small: {numbers['clearance']['error']}")
+    c = numbers["clearance"]
+    if not c["holds"]:
+        out.append(f"the default grid is too small: {c['error']}")
+    elif c["gait_room"] < c["cells"]:
+        out.append(
+            f"the default grid is too narrow for the shipped gait: its widest pose "
+            f"({' x '.join(f'{x:.3g}' for x in c['gait_box'])} m) leaves {c['gait_room']:.1f} "
+            f"cells of water, fewer than {c['cells']}, so a swim would stop (BodyOutsideGrid); "
+            f"use at least {'x'.join(map(str, c['gait_resolution']))} cells (--resolution)"
+        )
     return out
 
 

@@ -101,7 +101,8 @@ def _grid_lines(n: dict) -> str:
     lengths = " x ".join(f"{x:.2g}" for x in g["extent_body_lengths"])
     holds = (
         f"holds the body with {c['cells']} cells of water on every side "
-        f"(nearest wall {c['room']:.1f} cells away)"
+        f"(nearest wall {c['room']:.1f} cells away; at the shipped gait's widest pose, "
+        f"{' x '.join(f'{x:.3g}' for x in c['gait_box'])} m, {c['gait_room']:.1f} cells)"
         if c["holds"] else f"does not hold the body: {c['error']}"
     )  # fmt: skip
     pd = n["pd"]
