@@ -250,6 +250,10 @@ def _cmd_compare(args) -> int:
     from aquagait.sim import SimulationError
 
     grid = dict(resolution=args.resolution, cell_size=args.cell_size)
+    given = {"--resume": args.resume, "--start": args.start, "--popsize": args.popsize}
+    alone = [flag for flag, value in given.items() if value]
+    if alone and not args.optimize:
+        return _fail("compare", f"{', '.join(alone)}: only with --optimize G", status=2)
     try:
         name = find_creature(args.name).name
         out = output_directory(args.out or Path("runs") / f"{name}-compare")
@@ -266,12 +270,26 @@ def _cmd_compare(args) -> int:
               f"{steady}")  # fmt: skip
     cross = None
     if args.optimize:
-        print(f"optimizing {args.name} in each fluid ({args.optimize} generations)...",
-              file=sys.stderr)  # fmt: skip
-        with _executor(args) as executor:
-            cross = cross_optimize(
-                args.name, args.optimize, args.seconds, executor=executor, **grid
-            )
+        from aquagait.optimize import ExecutorLost
+
+        def generations(fluid):
+            print(f"optimizing {name} in the {fluid} fluid ({args.optimize} generations, "
+                  f"run directory {out / f'optimize-{fluid}'})", file=sys.stderr)  # fmt: skip
+            return GenerationLine()
+
+        try:
+            with _executor(args) as executor:
+                cross = cross_optimize(
+                    args.name, args.optimize, args.seconds, seed=args.seed, executor=executor,
+                    out=out, resume=args.resume, start=args.start, popsize=args.popsize,
+                    progress=generations, **grid,
+                )  # fmt: skip
+        except SetupError as err:
+            return _fail("compare", err, status=2)
+        except ExecutorLost as err:
+            return _fail("compare", err, status=1)
+        except (FileExistsError, FileNotFoundError, ValueError, OSError) as err:
+            return _fail("compare", err, status=2)
         for trained, swum in cross["distance"].items():
             row = ", ".join(f"in {fluid} {metres:+.4f} m" for fluid, metres in swum.items())
             print(f"gait trained in the {trained} fluid swims {row}")
@@ -352,7 +370,7 @@ class ProgressBar:
             print(line, file=self.stream, flush=True)
 
 
-def _fail(command: str, err: Exception, status: int) -> int:
+def _fail(command: str, err: Exception | str, status: int) -> int:
     print(f"aquagait {command}: error: {err}", file=sys.stderr)
     return status
 
@@ -497,6 +515,14 @@ def build_parser() -> argparse.ArgumentParser:
     compare.add_argument("--optimize", type=int, default=0, metavar="G",
                          help="also optimize a gait in each fluid for G generations "
                          "and swim each in both")  # fmt: skip
+    compare.add_argument("--popsize", type=int, metavar="N",
+                         help="--optimize: samples per generation (2D 16, 3D 31)")  # fmt: skip
+    compare.add_argument("--seed", type=int, default=0, help="--optimize: random seed")
+    compare.add_argument("--start", metavar="FILE|NAME",
+                         help="--optimize: the gait both searches start from "
+                         "(default: the shipped gait)")  # fmt: skip
+    compare.add_argument("--resume", action="store_true",
+                         help="--optimize: continue the searches in --out")  # fmt: skip
     _add_evaluator_flags(compare)
     compare.add_argument("--resolution", type=int, nargs="+", metavar="N",
                          help="Euler grid cells per axis")  # fmt: skip

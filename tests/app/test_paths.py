@@ -62,6 +62,39 @@ def test_compare_takes_a_path(swimmer, tmp_path):
     assert set(json.loads((out / "compare.json").read_text())["swims"]) == {"euler", "simple"}
 
 
+SEARCH = ["--optimize", "1", "--popsize", "2", "--workers", "1", "--seconds", "0.2", *GRID]
+"""compare's smallest search: one generation of two in each fluid."""
+
+
+def test_compare_optimizes_in_each_fluid_in_run_directories_a_resume_reads_back(
+    swimmer, tmp_path, capsys
+):
+    out = tmp_path / "compare"
+    argv = ["compare", str(swimmer), *SEARCH, "--seed", "3", "--out", str(out), "--no-video"]
+    assert main(argv) == 0
+    for fluid in ("euler", "simple"):
+        run = out / f"optimize-{fluid}"
+        assert (run / "checkpoint.pkl").is_file() and (run / "gait.json").is_file()
+        assert len((run / "optimization.csv").read_text().splitlines()) == 2  # header + 1
+    cross = json.loads((out / "compare.json").read_text())["cross"]
+    assert (cross["seed"], cross["generations"]) == (3, 1)
+    assert set(cross["objective"]) == {"euler", "simple"}
+    err = capsys.readouterr().err
+    assert "optimizing swimmer in the simple fluid" in err and "generation   1/1" in err
+
+    assert main(argv) == 2  # the checkpoints are there: not overwritten
+    assert "--resume" in capsys.readouterr().err
+    assert main([*argv, "--resume"]) == 0  # finished searches are read back, not run again
+    again = json.loads((out / "compare.json").read_text())["cross"]
+    assert again["gaits"] == cross["gaits"] and again["distance"] == cross["distance"]
+
+
+def test_search_flags_without_optimize_are_refused(swimmer, tmp_path, capsys):
+    argv = ["compare", str(swimmer), "--resume", "--start", "x.json", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    assert "--resume, --start: only with --optimize G" in capsys.readouterr().err
+
+
 def test_a_path_that_is_not_there_is_one_line_and_status_2(tmp_path, capsys):
     assert main(["swim", str(tmp_path / "nothing.xml"), "--out", str(tmp_path / "x")]) == 2
     err = capsys.readouterr().err

@@ -16,9 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from aquagait.app.optimize import prepare_optimization, run_optimization
+from aquagait.app.optimize import prepare_optimization, run_optimization, write_optimization
 from aquagait.app.swim import SwimRun, prepare_swim, run_swim, write_swim
 from aquagait.io.run import write_json
+from aquagait.optimize import CHECKPOINT
 
 FLUIDS = ("euler", "simple")
 
@@ -50,20 +51,62 @@ def forward_distance(run: SwimRun) -> float:
 
 
 def cross_optimize(
-    name: str, generations: int, seconds: float = 3.0, seed: int = 0, executor=None, **grid
+    name: str,
+    generations: int,
+    seconds: float = 3.0,
+    seed: int = 0,
+    executor=None,
+    out=None,
+    resume: bool = False,
+    start=None,
+    popsize: int | None = None,
+    progress=None,
+    **grid,
 ) -> dict:
     """Optimize a gait in each fluid, then swim each gait in each fluid.
 
+    Args:
+        name: library creature or MJCF path.
+        generations: CMA-ES generations in each fluid.
+        seconds: how long each gait swims in each fluid afterwards [s].
+        seed: the searches' seed (the same in both fluids).
+        executor: evaluates the samples (``aquagait.optimize``); None: this process.
+        out: if given, each fluid's search keeps its run directory in
+            ``out/optimize-<fluid>/`` (checkpoint after every generation,
+            ``optimization.csv``, and ``gait.json`` once done).
+        resume: continue the searches whose checkpoints are there (a finished
+            one is read back, not run again).
+        start: where both searches start (``prepare_optimization``); None: the
+            shipped gait.
+        popsize: samples per generation; None: 16 in 2D, 31 in 3D.
+        progress: optional ``progress(fluid)`` returning the per-generation
+            callback of that fluid's search (``GenerationLine``).
+        **grid: ``resolution`` and ``cell_size`` for the Euler fluid.
+
     Returns:
         ``{"gaits": {trained_in: params}, "distance": {trained_in: {swum_in: metres}},
-        "body_lengths_per_cycle_from_rest": {...}}``.
+        "body_lengths_per_cycle_from_rest": {...}, "objective": {trained_in: value},
+        "seed": seed, "generations": generations, "start": start}``.
     """
-    gaits = {}
-    for fluid in FLUIDS:
-        setup = prepare_optimization(
-            name, generations=generations, seed=seed, fluid=fluid, **_grid_for(fluid, grid)
-        )
-        gaits[fluid] = run_optimization(setup, executor=executor).best_x
+    setups = {
+        fluid: prepare_optimization(
+            name,
+            generations=generations,
+            seed=seed,
+            fluid=fluid,
+            start=start,
+            **_grid_for(fluid, grid),
+        )  # fmt: skip
+        for fluid in FLUIDS
+    }  # both checked before either runs
+    gaits, objective = {}, {}
+    for fluid, setup in setups.items():
+        run_dir = None if out is None else Path(out) / f"optimize-{fluid}"
+        report = None if progress is None else progress(fluid)
+        result = run_optimization(setup, run_dir, executor, resume and _started(run_dir), report)
+        if run_dir is not None:
+            write_optimization(setup, result, run_dir, plot=False)
+        gaits[fluid], objective[fluid] = result.best_x, float(result.best_f)
     distance, per_cycle = {}, {}
     for trained, params in gaits.items():
         runs = swim_both(name, gait=params, seconds=seconds, **grid)
@@ -75,7 +118,17 @@ def cross_optimize(
         "gaits": {f: np.asarray(p).tolist() for f, p in gaits.items()},
         "distance": distance,
         "body_lengths_per_cycle_from_rest": per_cycle,
+        "objective": objective,
+        "seed": seed,
+        "generations": generations,
+        "start": None if start is None else str(start),
     }
+
+
+def _started(run_dir) -> bool:
+    """Whether a search left a checkpoint in ``run_dir`` (a resume of both fluids' searches
+    resumes the first's and starts the second's if the first was stopped before it began)."""
+    return run_dir is not None and (Path(run_dir) / CHECKPOINT).exists()
 
 
 def _grid_for(fluid: str, grid: dict) -> dict:
