@@ -92,11 +92,12 @@ def cross_optimize(
         fluid: prepare_optimization(
             name,
             generations=generations,
+            popsize=popsize,
             seed=seed,
             fluid=fluid,
             start=start,
             **_grid_for(fluid, grid),
-        )  # fmt: skip
+        )
         for fluid in FLUIDS
     }  # both checked before either runs
     gaits, objective = {}, {}
