@@ -286,7 +286,7 @@ def _cmd_compare(args) -> int:
                 )  # fmt: skip
         except SetupError as err:
             return _fail("compare", err, status=2)
-        except ExecutorLost as err:
+        except (ExecutorLost, SimulationError) as err:  # a trained gait's swim may fail too
             return _fail("compare", err, status=1)
         except (FileExistsError, FileNotFoundError, ValueError, OSError) as err:
             return _fail("compare", err, status=2)

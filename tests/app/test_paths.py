@@ -62,15 +62,19 @@ def test_compare_takes_a_path(swimmer, tmp_path):
     assert set(json.loads((out / "compare.json").read_text())["swims"]) == {"euler", "simple"}
 
 
-SEARCH = ["--optimize", "1", "--popsize", "2", "--workers", "1", "--seconds", "0.2", *GRID]
+SEARCH = ["--optimize", "1", "--popsize", "2", "--workers", "1", "--seconds", "0.2"]
 """compare's smallest search: one generation of two in each fluid."""
+
+WIDE = ["--resolution", "56", "32", "--cell-size", "0.01"]
+"""A grid that holds a random gait's 0.07 m sweep (GRID's 24 cells hold the straight
+swimmer's 2.4 cm)."""
 
 
 def test_compare_optimizes_in_each_fluid_in_run_directories_a_resume_reads_back(
     swimmer, tmp_path, capsys
 ):
     out = tmp_path / "compare"
-    argv = ["compare", str(swimmer), *SEARCH, "--seed", "3", "--out", str(out), "--no-video"]
+    argv = ["compare", str(swimmer), *SEARCH, *WIDE, "--seed", "3", "--out", str(out), "--no-video"]
     assert main(argv) == 0
     for fluid in ("euler", "simple"):
         run = out / f"optimize-{fluid}"
@@ -88,6 +92,14 @@ def test_compare_optimizes_in_each_fluid_in_run_directories_a_resume_reads_back(
     assert main([*argv, "--resume"]) == 0  # finished searches are read back, not run again
     again = json.loads((out / "compare.json").read_text())["cross"]
     assert again["gaits"] == cross["gaits"] and again["distance"] == cross["distance"]
+
+
+def test_a_trained_gait_that_outgrows_the_grid_is_one_line_and_status_1(swimmer, tmp_path, capsys):
+    """On GRID's 24 cells the seed-3 search's best gait sweeps 0.07 m and leaves the grid."""
+    argv = ["compare", str(swimmer), *SEARCH, *GRID, "--seed", "3", "--out", str(tmp_path)]
+    assert main([*argv, "--no-video"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("aquagait compare: error: at t = ") and "no longer fits" in err
 
 
 def test_search_flags_without_optimize_are_refused(swimmer, tmp_path, capsys):
