@@ -90,6 +90,9 @@ def ship(run: Path, name: str | None) -> Path:
     """Copy the run's gait into its creature's side-car as ``name`` (default: the gait's
     manoeuvre: ``straight``, ``turn-left``, ...)."""
     gait = json.loads((run / "gait.json").read_text())
+    start = json.loads((run / "config.json").read_text())["optimization"]["x0"]
+    if gait["params"] == start:
+        raise SystemExit(f"{run}'s search found nothing better than its start: nothing to ship")
     name = name or gait.get("maneuver", "straight")
     sidecar = CREATURES / f"{gait['creature']}.aquagait.json"
     meta = json.loads(sidecar.read_text())

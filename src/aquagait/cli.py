@@ -204,8 +204,11 @@ def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, 
     except (FileExistsError, FileNotFoundError, ValueError, ImportError, OSError) as err:
         return _fail("optimize", err, status=2)
     write_optimization(setup, result, out, plot=video)
+    start = "" if result.start_f is None else f"; the start: {result.start_f:.4g}"
+    if result.start_f is not None and result.best_f == result.start_f:
+        start += ", not bettered"
     print(f"best objective {result.best_f:.4g} after {result.evaluations} samples "
-          f"({result.stopped})")  # fmt: skip
+          f"({result.stopped}{start})")  # fmt: skip
     swim = best_swim(setup, out, default_grid=default_grid, seconds=seconds)
     return _swim_and_write(swim, out, video, extra_config={"optimization": setup.config()})
 

@@ -108,18 +108,23 @@ class Faulty:
 
 
 class DiesOnce:
-    """Kills its worker process the first time any worker calls it (a marker file says so)."""
+    """Kills its worker process the first time any worker calls it after the start (the
+    run's first call, evaluated alone); marker files say which calls have been."""
 
     def __init__(self, objective, marker: str):
         self.objective, self.marker = objective, marker
 
     def __call__(self, x):
-        try:
-            descriptor = os.open(self.marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
-        except FileExistsError:
-            return self.objective(x)
-        os.close(descriptor)
-        os._exit(3)  # the worker dies mid-task, as if killed
+        for marker in (self.marker + ".start", self.marker):
+            try:
+                descriptor = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+            except FileExistsError:
+                continue
+            os.close(descriptor)
+            if marker == self.marker:
+                os._exit(3)  # the worker dies mid-task, as if killed
+            return self.objective(x)  # the start
+        return self.objective(x)
 
 
 def within(x, limit: float = 0.5) -> bool:

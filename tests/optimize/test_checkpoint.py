@@ -42,9 +42,10 @@ def saved_progress(run_dir: Path) -> tuple[int, int]:
 
 def test_a_run_killed_with_sigkill_mid_generation_resumes_to_the_same_result(tmp_path):
     run_dir, calls = tmp_path / "killed", tmp_path / "calls.txt"
-    # Generations evaluate 8 samples each (no sample hits the resampling cap), so the
-    # 19th call is the 3rd of generation 3: the objective hangs there until killed.
-    hang_at = 2 * KILLED_SETTINGS.popsize + 3
+    # The start is the first call, then generations evaluate 8 samples each (no sample hits
+    # the resampling cap), so the 20th call is the 3rd of generation 3: the objective hangs
+    # there until killed.
+    hang_at = 1 + 2 * KILLED_SETTINGS.popsize + 3
     output = (tmp_path / "output.txt").open("w")
     script = [sys.executable, str(HERE / "optimize_cases.py"), str(run_dir), str(calls)]
     process = subprocess.Popen([*script, str(hang_at)], stdout=output, stderr=subprocess.STDOUT)
@@ -61,7 +62,7 @@ def test_a_run_killed_with_sigkill_mid_generation_resumes_to_the_same_result(tmp
             process.kill()
             process.wait(timeout=10)
         output.close()
-    assert saved_progress(run_dir) == (2, 2 * KILLED_SETTINGS.popsize)  # died in generation 3
+    assert saved_progress(run_dir) == (2, 1 + 2 * KILLED_SETTINGS.popsize)  # died in gen. 3
 
     resumed = optimize(killed_problem(), KILLED_SETTINGS, run_dir=run_dir, resume=True)
     whole = optimize(killed_problem(), KILLED_SETTINGS, run_dir=tmp_path / "whole")
@@ -97,8 +98,8 @@ def grouped(objective=None):
     return sphere_problem(4, objective, feasible=within, groups=GROUPS)
 
 
-# Evaluations 1-30 are group 0's five generations, 31-60 group 1's.
-@pytest.mark.parametrize("at", [7, 12, 13, 30, 31, 36, 59])
+# Evaluation 1 is the start, 2-31 group 0's five generations, 32-61 group 1's.
+@pytest.mark.parametrize("at", [8, 13, 14, 31, 32, 37, 60])
 def test_a_run_aborted_mid_generation_resumes_to_the_same_result(tmp_path, at):
     whole = optimize(grouped(), GROUPED)
     with pytest.raises(Abort):

@@ -1,5 +1,6 @@
 """The CMA-ES loop: exact minima of analytic functions, feasibility, groups, failures."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -27,7 +28,8 @@ def test_sphere_is_minimized_to_tolerance():
     assert result.best_f < 1e-10
     assert np.linalg.norm(result.best_x - 1) < 1e-5  # |x - x*| = sqrt(f)
     assert "tolfun" in result.stopped
-    assert result.evaluations == 12 * result.generations
+    assert result.evaluations == 1 + 12 * result.generations  # the start, then the samples
+    assert result.start_f == pytest.approx(8.0)  # |0 - 1|^2 x 8
 
 
 def test_rotated_ellipsoid_is_minimized_to_tolerance():
@@ -80,7 +82,7 @@ def test_a_zero_resampling_cap_penalizes_at_once():
     result = optimize(problem, Settings(popsize=10, generations=3, max_resamples=0))
     assert sum(row["resamples"] for row in result.history) == 0
     infeasible = sum(row["infeasible"] for row in result.history)
-    assert infeasible > 0 and len(recorder.calls) == 30 - infeasible
+    assert infeasible > 0 and len(recorder.calls) == 1 + 30 - infeasible  # the start too
     assert all(within(x) for x in recorder.calls)
 
 
@@ -148,7 +150,7 @@ def test_progress_reports_every_generation():
     reports = []
     optimize(sphere_problem(3), Settings(popsize=6, generations=5), progress=reports.append)
     assert [r.generation for r in reports] == [1, 2, 3, 4, 5]
-    assert all(r.planned == 5 and r.evaluations == 6 * r.generation for r in reports)
+    assert all(r.planned == 5 and r.evaluations == 1 + 6 * r.generation for r in reports)
     assert reports[-1].remaining == 0 and reports[0].remaining >= 0
 
 
@@ -212,3 +214,17 @@ def test_a_one_parameter_search_converges():
     problem = Problem(lambda x: float((x[0] - 0.3) ** 2), [0.7], [0.0], [0.9])
     result = optimize(problem, Settings(popsize=8, generations=40))
     assert abs(result.best_x[0] - 0.3) < 1e-3
+
+
+def test_the_answer_is_never_worse_than_the_start():
+    """Started at the minimum with a wide spread, no draw of a short run comes as close: the
+    start is evaluated first, so the run answers with it; the draws are those of a run that
+    did not evaluate it (it takes no random numbers)."""
+    recorder = Recorder(Sphere(np.ones(3)))
+    problem = sphere_problem(3, recorder, sigma0=2.0)
+    problem = dataclasses.replace(problem, x0=np.ones(3))
+    result = optimize(problem, Settings(popsize=6, generations=2, seed=5))
+    assert result.start_f == 0.0 and result.best_f == 0.0
+    np.testing.assert_array_equal(result.best_x, np.ones(3))
+    np.testing.assert_array_equal(recorder.calls[0], np.ones(3))
+    assert min(float(np.sum((x - 1) ** 2)) for x in recorder.calls[1:]) > 0.1

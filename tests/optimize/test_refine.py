@@ -19,15 +19,18 @@ def refined(objective=COARSE, refine=TARGET):
 
 
 def test_the_answer_is_the_best_sample_by_the_target_objective():
-    """Every generation refines its two best samples by the coarse objective; the
-    answer is the best of those by the target, and its value is the target's."""
+    """The start is scored by the target; every generation refines its two best samples by
+    the coarse objective; the answer is the best of those by the target, and its value is
+    the target's."""
     target = Recorder(TARGET)
     result = optimize(refined(refine=target), SETTINGS)
-    assert result.refinements == len(target.calls) == SETTINGS.generations * 2
+    assert result.refinements == len(target.calls) == 1 + SETTINGS.generations * 2
+    np.testing.assert_array_equal(target.calls[0], np.zeros(4))
+    assert result.start_f == TARGET(np.zeros(4))
     best_x = min(target.calls, key=TARGET)
     np.testing.assert_array_equal(result.best_x, best_x)
     assert result.best_f == TARGET(result.best_x)
-    assert [row["refinements"] for row in result.history] == [2, 4, 6, 8, 10, 12]
+    assert [row["refinements"] for row in result.history] == [3, 5, 7, 9, 11, 13]
 
 
 def test_ranking_comes_from_the_coarse_objective_only():
@@ -45,7 +48,7 @@ def test_a_coarse_model_with_an_offset_optimum_still_ends_at_the_targets_best_sa
     assert TARGET(both.best_x) <= TARGET(coarse_only.best_x)
 
 
-@pytest.mark.parametrize("at", [3, 8, 9, 12])
+@pytest.mark.parametrize("at", [4, 9, 10, 13])  # call 1 of the target scores the start
 def test_a_coarse_to_fine_run_aborted_anywhere_resumes_to_the_same_result(tmp_path, at):
     """Aborted inside a refinement (call `at` of the target) or between: the checkpoint
     holds the last whole generation, and the resumed run is the uninterrupted one."""

@@ -269,6 +269,9 @@ class Result:
         stopped: why the search ended, per group ("generations (100)",
             "tolfun=1e-11", ...).
         refinements: evaluations of `Problem.refine` (0 without it).
+        start_f: the start x0's value (by `refine`, if any), evaluated before
+            the first generation; None if it was not (infeasible, failed, or a
+            run resumed from before starts were scored). best_f <= start_f.
     """
 
     best_x: np.ndarray
@@ -277,6 +280,7 @@ class Result:
     evaluations: int
     stopped: str
     refinements: int = 0
+    start_f: float | None = None
 
     @property
     def generations(self) -> int:
