@@ -30,10 +30,17 @@ import numpy as np
 CREATURES = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures"
 
 
-def provenance(run: Path) -> dict:
-    """How the run found its gait: command, seed, grid, objective, wall time, versions."""
+def provenance(run: Path, default_start: str | None = None) -> dict:
+    """How the run found its gait: command, seed, grid, objective, wall time, versions.
+
+    ``default_start``: the name the run's default start (the shipped straight gait it
+    began from) goes by once the new gait displaces it, written into the command as
+    ``--start`` so that the command still starts where the run did.
+    """
     config = json.loads((run / "config.json").read_text())
     opt = config["optimization"]
+    if opt.get("start") is None and default_start is not None:
+        opt["start"] = default_start
     with (run / "optimization.csv").open() as f:
         rows = list(csv.DictReader(f))
     if opt.get("target_grid"):
@@ -101,7 +108,9 @@ def ship(run: Path, name: str | None) -> Path:
     displaced = gaits.get(name, {}).get("provenance", {}).get("method") == "hand-set"
     if displaced and "hand-set" not in gaits:  # kept: tests and figures measured with it
         gaits["hand-set"] = gaits[name]
-    gaits[name] = {"params": params, "provenance": provenance(run)}
+    searched_from_it = displaced and name == "straight"  # the default start of the run
+    record = provenance(run, "hand-set" if searched_from_it else None)
+    gaits[name] = {"params": params, "provenance": record}
     sidecar.write_text(_dumps(meta) + "\n")
     return sidecar
 
