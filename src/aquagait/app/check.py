@@ -48,7 +48,7 @@ from aquagait.creatures.creature import STRAIGHT
 from aquagait.grid import Grid
 from aquagait.io.run import read_json, write_json
 from aquagait.sim import CLEARANCE, Scene, make_scene
-from aquagait.sim.follow import cells_around, check_room, room, widest_box
+from aquagait.sim.follow import cells_for, check_room, room, widest_box
 
 THIN_CELLS = 2.0
 """A link should be at least this many cells thick (DESIGN.md §2.8)."""
@@ -316,12 +316,11 @@ def _clearance(creature: Creature, scene: Scene) -> dict:
         error = str(err)
     sides = widest_box(scene, creature.spec(STRAIGHT).unpack(creature.default_gait))
     swimming = (np.asarray(grid.shape) - sides / grid.cell_size) / 2  # centred, per axis
+    needed = np.maximum(grid.shape, cells_for(sides, grid.cell_size, CLEARANCE))
     return {
         "cells": CLEARANCE, "room": water, "holds": error is None, "error": error,
         "gait_box": sides.tolist(), "gait_room": float(swimming.min()),
-        "gait_resolution": [int(n) for n in np.maximum(
-            grid.shape, cells_around(np.stack([0 * sides, sides]), sides / 2, grid.cell_size,
-                                     CLEARANCE))],
+        "gait_resolution": needed.tolist(),
     }  # fmt: skip
 
 

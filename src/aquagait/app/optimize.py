@@ -33,7 +33,7 @@ from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
-from aquagait.sim.follow import cells_around, widest_box
+from aquagait.sim.follow import cells_for, widest_box
 
 DEFAULT_CYCLES = 2.0
 """Gait cycles simulated per sample (paper §4)."""
@@ -297,8 +297,7 @@ def _room_notes(scene: Scene, gait, problem: Problem) -> tuple[str, ...]:
     needed = []
     for z in draws:
         x = np.clip(problem.x0 + spread * z, problem.lower, problem.upper)
-        box = np.stack([np.zeros(scene.model.dim), widest_box(scene, gait.unpack(x))])
-        needed.append(cells_around(box, box.mean(axis=0), grid.cell_size, clearance))
+        needed.append(cells_for(widest_box(scene, gait.unpack(x)), grid.cell_size, clearance))
     needed = np.array(needed)
     fits = np.all(needed <= np.asarray(grid.shape), axis=1)
     if fits.mean() >= ROOM_SHARE:

@@ -187,6 +187,13 @@ def cells_around(bounds: np.ndarray, centre, cell_size: float, clearance: float)
     return tuple(math.ceil(2 * x / cell_size + 2 * clearance - 1e-9) for x in half)
 
 
+def cells_for(sides, cell_size: float, clearance: float) -> tuple:
+    """Cells per axis of the smallest grid that holds a box with these sides (dim,) [m],
+    centred, with ``clearance`` cells of water on either side."""
+    sides = np.asarray(sides, dtype=float)
+    return cells_around(np.stack([0 * sides, sides]), sides / 2, cell_size, clearance)
+
+
 def smallest_resolution(bounds: np.ndarray, cell_size: float, clearance: float) -> tuple:
     """Cells per axis that hold a box of these bounds with ``clearance`` cells on each side,
     wherever the whole-cell shifts leave it (one cell more than the box and clearances)."""
