@@ -87,9 +87,9 @@ def widest_box(scene: Scene, gait, poses: int = 16) -> np.ndarray:
 CORNER_SHARE = 0.1
 """The share of each link's weight ``widest_box`` puts on its box's corners, the rest on its
 origin. The origins alone match a swim best (the eel2d's lateral room 0.178 m against 0.183 m
-swum, 0.174 m with this share, 0.152 m on the corners alone; eel3d 0.082, 0.081, 0.073
-against 0.094 m), but a straight chain's origins lie on a line, about which no rotation could
-be told from another: the corners decide that."""
+swum, 0.174 m with this share, 0.152 m on the corners alone; eel3d's hand-set gait 0.082,
+0.081, 0.073 against 0.094 m), but a straight chain's origins lie on a line, about which no
+rotation could be told from another: the corners decide that."""
 
 
 def _weighted_points(scene: Scene, q) -> tuple[np.ndarray, np.ndarray]:
