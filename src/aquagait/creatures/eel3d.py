@@ -45,21 +45,21 @@ cycle; 0.29 in the second cycle), heading within a few degrees of +x,
 spending 0.044 J in the Euler fluid.
 
 Shipped ``straight`` gait: ``aquagait optimize eel3d --start hand-set --step
-0.1 --generations 25 --seed 1 --popsize 16`` (a search around the hand-set
-wave, each parameter spread over a tenth of its range; 1,304 s on 2
-workers): objective -0.335 against the hand-set gait's -0.153. It swims
-0.36 m in 2 s from rest (0.45 body lengths per cycle), 0.60 over four
-cycles (0.71 steady, Strouhal 0.68) for 0.135 J of the bound's 0.146 J: a
-wave of -0.41 to -0.82 rad a joint head to tail, amplitudes 0.37 rad at the
-head growing to the 0.52 rad limit from the fourth joint back.
-Also shipped: ``optimized`` (``aquagait optimize eel3d --generations 60
---seed 1``, 60 generations of 31 spread over a quarter of each range),
-which swims 0.35 m in 2 s from rest (0.44 body lengths per cycle; 0.62 in
-the second cycle, Strouhal 0.69) for 0.14 J. It is not the default: its
-head joint leads the second by 0.44 rad, where an eel's body wave runs
-head to tail (the phase lags behind it, joint by joint: -1.41, -0.21,
--0.52, -0.99 rad), and the search around the hand-set wave found a
-better gait that keeps the wave.
+0.1 --generations 25 --seed 1 --popsize 16 --resolution 64 32 32`` (on the
+paper's grid, the default then; a search around the hand-set wave, each
+parameter spread over a tenth of its range; 1,304 s on 2 workers): objective
+-0.335 against the hand-set gait's -0.153. It swims 0.36 m in 2 s from rest
+(0.45 body lengths per cycle), 0.60 over four cycles (0.71 steady, Strouhal
+0.68) for 0.135 J of the bound's 0.146 J: a wave of -0.41 to -0.82 rad a
+joint head to tail, amplitudes 0.37 rad at the head growing to the 0.52 rad
+limit from the fourth joint back. Also shipped: ``optimized`` (``aquagait
+optimize eel3d --generations 60 --seed 1``, 60 generations of 31 spread over
+a quarter of each range), which swims 0.35 m in 2 s from rest (0.44 body
+lengths per cycle; 0.62 in the second cycle, Strouhal 0.69) for 0.14 J. It
+is not the default: its head joint leads the second by 0.44 rad, where an
+eel's body wave runs head to tail (the phase lags behind it, joint by joint:
+-1.41, -0.21, -0.52, -0.99 rad), and the search around the hand-set wave
+found a better gait that keeps the wave.
 
 ====  ==================  ===============  =======  =============
 DOF   amplitude bounds    phase bounds     default  default phase
