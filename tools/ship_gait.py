@@ -53,10 +53,9 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
                "--seed", str(opt["seed"]), "--popsize", str(opt["popsize"])]  # fmt: skip
     if opt.get("maneuver", "straight") != "straight":
         command += ["--maneuver", opt["maneuver"]]
-    if opt["resolution"] is not None:  # None: the creature's default grid, as the swim's
-        command += ["--resolution", *map(str, opt["resolution"])]
-    if opt["cell_size"] is not None:
-        command += ["--cell-size", f"{opt['cell_size']:g}"]
+    # the grid always, the default's too: a creature's default grid may change later
+    command += ["--resolution", *map(str, grid["resolution"])]
+    command += ["--cell-size", f"{grid['cell_size']:g}"]
     if opt.get("start") is not None:
         command += ["--start", opt["start"]]
     if opt.get("step") is not None:
