@@ -127,8 +127,9 @@ def cross_optimize(
 
 
 def _started(run_dir) -> bool:
-    """Whether a search left a checkpoint in ``run_dir`` (a resume of both fluids' searches
-    resumes the first's and starts the second's if the first was stopped before it began)."""
+    """Whether a search left a checkpoint in ``run_dir``: a resumed comparison resumes the
+    searches that began and starts those that did not (stopped during the first search,
+    the second has no checkpoint yet)."""
     return run_dir is not None and (Path(run_dir) / CHECKPOINT).exists()
 
 
