@@ -21,7 +21,7 @@ def test_frog_matches_table_1(frog):
     assert frog.dim == 3
     assert len(frog.model.actuated_dofs) == 18
     assert frog.gait.size == 18  # 9 left DOFs x (amplitude, phase); the right ones mirror them
-    assert frog.resolution == (96, 80, 48)  # the paper: 96x64x48; ours holds a wide kick
+    assert frog.resolution == (96, 80, 56)  # the paper: 96x64x48; ours holds a wide kick
     assert frog.gait.period == 1.0 and frog.gait.offset == 0.0
     assert frog.gait.free == ("amplitude", "phase")
 
