@@ -84,6 +84,22 @@ def test_bad_settings_are_refused_before_anything_runs():
         prepare_optimization("eel2d", generations=0)
 
 
+def test_the_energy_weight_is_the_creature_s_unless_given(tmp_path, capsys):
+    """The frog's side-car weighs a joule above its bound 20 times the paper's default."""
+    assert prepare_optimization("eel2d", **COARSE).objective.weights.energy == 1.0
+    frog = prepare_optimization("frog", fluid="none")
+    assert frog.objective.weights.energy == 20.0 == frog.creature.energy_weight
+    setup = prepare_optimization("eel2d", resolution=(64, 32), cell_size=0.02, energy_weight=5.0,
+                                 coarse=2)  # fmt: skip
+    assert setup.objective.weights.energy == setup.target.weights.energy == 5.0
+    assert setup.config()["weights"]["energy"] == 5.0
+    with pytest.raises(OptimizationSetupError, match="energy weight must be a number >= 0"):
+        prepare_optimization("eel2d", energy_weight=-1.0, **COARSE)
+    argv = ["optimize", "eel2d", "--energy-weight", "-1", "--out", str(tmp_path / "eel")]
+    assert cli.main(argv) == 2  # the flag reaches the setup, which refuses it
+    assert "energy weight must be a number >= 0" in capsys.readouterr().err
+
+
 def test_optimize_command_writes_the_run_directory_and_resumes(tmp_path, capsys):
     out = tmp_path / "eel"
     argv = ["optimize", "eel2d", "--generations", "2", "--popsize", "4", "--workers", "1"]

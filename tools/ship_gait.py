@@ -56,6 +56,8 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
     # the grid always, the default's too: a creature's default grid may change later
     command += ["--resolution", *map(str, grid["resolution"])]
     command += ["--cell-size", f"{grid['cell_size']:g}"]
+    # the energy weight always too: a creature's default comes from its side-car
+    command += ["--energy-weight", f"{opt['weights']['energy']:g}"]
     if opt.get("start") is not None:
         command += ["--start", opt["start"]]
     if opt.get("step") is not None:

@@ -171,6 +171,7 @@ def _cmd_optimize(args) -> int:
             maneuver=args.maneuver,
             start=args.start,
             step=args.step,
+            energy_weight=args.energy_weight,
         )
         label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
         out = output_directory(args.out or Path("runs") / label)
@@ -471,6 +472,10 @@ def build_parser() -> argparse.ArgumentParser:
     optimize.add_argument("--step", type=float, metavar="F",
                           help="initial spread of each parameter, a fraction of its range "
                           "(default 0.25; smaller polishes the start)")  # fmt: skip
+    optimize.add_argument("--energy-weight", type=float, metavar="W",
+                          help="the weight of the actuator work [J] in the objective once "
+                          "it passes the energy bound (default: the creature's, 1 unless its "
+                          "metadata says)")  # fmt: skip
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=_cmd_optimize)

@@ -138,7 +138,8 @@ def run_check(setup: CheckSetup) -> CheckReport:
     ``solid_cells``, ``voxel_fraction``: the volume of its staircase cells over
     its volume, ``seen_fraction``: the volume the sub-cell faces see over its
     volume), ``thinnest``, ``root``, ``dofs``, ``gait``, ``grid``,
-    ``clearance``, ``energy_bound`` [J], ``pd``, ``notes`` and ``warnings``.
+    ``clearance``, ``energy_bound`` [J], ``energy_weight`` [1/J], ``pd``, ``notes``
+    and ``warnings``.
     """
     creature, grid = setup.creature, setup.grid
     model = creature.model
@@ -165,6 +166,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "grid": _grid(creature, grid),
         "clearance": _clearance(creature, setup.scene),
         "energy_bound": float(creature.energy_bound),
+        "energy_weight": float(creature.energy_weight),
         "pd": {
             "natural_frequency": creature.natural_frequency,
             "damping_ratio": creature.damping_ratio,

@@ -110,7 +110,8 @@ def _grid_lines(n: dict) -> str:
         f"default grid: {cells} cells of {g['cell_size'] * 1000:g} mm = {metres} m = "
         f"{lengths} body lengths",
         f"clearance (Euler fluid): {holds}",
-        f"energy bound: {n['energy_bound']:.4g} J of actuator work over two cycles",
+        f"energy bound: {n['energy_bound']:.4g} J of actuator work over two cycles "
+        f"(past it the objective adds {n['energy_weight']:g} times the work [J])",
         f"PD servos: natural frequency {pd['natural_frequency']:g} rad/s, "
         f"damping ratio {pd['damping_ratio']:g}",
     ])  # fmt: skip

@@ -183,6 +183,7 @@ def prepare_optimization(
     maneuver: str = STRAIGHT,
     start=None,
     step: float | None = None,
+    energy_weight: float | None = None,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -208,6 +209,8 @@ def prepare_optimization(
             manoeuvre). From a good gait with a small ``step``: a local polish.
         step: the initial standard deviation of each parameter, as a fraction of
             its range (0 < step <= 1); None: a quarter (``Problem.sigma0``).
+        energy_weight: the objective's energy weight [1/J] (``objectives.Weights``);
+            None: the creature's (``Creature.energy_weight``, 1 unless its side-car says).
 
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
@@ -240,11 +243,19 @@ def prepare_optimization(
     x0 = _start(creature, maneuver, start)
     if step is not None and not 0 < step <= 1:
         raise OptimizationSetupError(f"step must be in (0, 1], a share of each range; got {step}")
+    if energy_weight is None:
+        energy_weight = creature.energy_weight
+    elif not (np.isfinite(energy_weight) and energy_weight >= 0):
+        raise OptimizationSetupError(
+            f"energy weight must be a number >= 0 (per joule, once past the bound), "
+            f"got {energy_weight}"
+        )
     period = float(np.max(gait.unpack(x0).period))
     seconds = cycles * period
     objective = SwimObjective(
         key, _tuple(resolution), cell_size, fluid, seconds, tuple(direction.tolist()),
-        maneuver=maneuver, axis=None if axis is None else tuple(axis.tolist()),
+        weights=objectives.Weights(energy=float(energy_weight)), maneuver=maneuver,
+        axis=None if axis is None else tuple(axis.tolist()),
     )  # fmt: skip
     refine, notes = None, ()
     if coarse is not None:

@@ -19,7 +19,7 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
 from aquagait.control.gait import DEFAULT_BOUNDS, GaitSpec, SineGait
 from aquagait.control.pd import StablePD
-from aquagait.objectives import MANEUVERS, STRAIGHT
+from aquagait.objectives import MANEUVERS, STRAIGHT, Weights
 from aquagait.sim.follow import CLEARANCE, cells_around
 
 
@@ -69,6 +69,8 @@ class Creature:
         cell_size: default h [m].
         energy_bound: [J] actuator work over two cycles above which the
             objective's energy term switches on (DESIGN.md §2.4).
+        energy_weight: [1/J] that term's weight (``objectives.Weights.energy``):
+            once the work passes the bound, the objective adds this times it.
         natural_frequency: PD servo w [rad/s] (see ``aquagait.control.pd``).
         damping_ratio: PD servo zeta.
         description: one line.
@@ -87,6 +89,7 @@ class Creature:
     resolution: tuple[int, ...]
     cell_size: float
     energy_bound: float
+    energy_weight: float = Weights.energy
     natural_frequency: float = 100.0
     damping_ratio: float = 1.5
     description: str = ""
@@ -275,6 +278,8 @@ def creature_problems(c: Creature) -> list[str]:
             )
     if not (np.isfinite(c.energy_bound) and c.energy_bound > 0):
         problems.append(f"energy bound {c.energy_bound!r} must be a positive number of joules")
+    if not (np.isfinite(c.energy_weight) and c.energy_weight >= 0):
+        problems.append(f"energy weight {c.energy_weight!r} must be a number >= 0 (per joule)")
     if not (c.natural_frequency > 0 and c.damping_ratio >= 0):
         problems.append(
             f"PD gains need natural_frequency > 0 rad/s and damping_ratio >= 0; got "

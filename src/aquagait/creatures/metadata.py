@@ -23,6 +23,7 @@ tail hinges, mirrored legs optimized after the tail):
       "pd": {"natural_frequency": 100, "damping_ratio": 1.5},
       "grid": {"resolution": [96, 48, 48], "cell_size": 0.004},
       "energy_bound": 0.02,
+      "energy_weight": 1.0,
       "gaits": {
         "straight": {
           "params": {
@@ -71,6 +72,12 @@ The entries (units: rad, s, m, J; the paper's gait is
   side around its centre of mass. Defaults from the body's thinnest link and length.
 - ``energy_bound`` [J]: actuator work over two cycles above which the objective's
   energy term switches on. Default ``5 m (L/T)^2`` (``defaults.ENERGY_COEFFICIENT``).
+- ``energy_weight`` [1/J] (>= 0): the energy term's weight, ``w2`` of
+  ``objectives.total``: once the work passes the bound, the objective adds this
+  times it. Default 1 (paper §4). A small creature, whose joule is worth more
+  than a metre of swimming, needs more: the frog has 20 (at 1 its search spent
+  4x the bound for 3x the distance). ``aquagait optimize --energy-weight``
+  overrides it.
 - ``gaits``: shipped gaits by name; ``straight`` is the creature's default
   gait; ``turn-left``, ``turn-right``, ``pitch-up`` and ``pitch-down`` are its
   learned manoeuvres (``aquagait optimize --maneuver``, followed by
@@ -121,7 +128,7 @@ from aquagait.creatures.creature import (
     smallest_grid,
 )
 from aquagait.creatures.schema import at, check_sidecar
-from aquagait.objectives import MANEUVERS
+from aquagait.objectives import MANEUVERS, Weights
 from aquagait.sim.follow import CLEARANCE
 
 SUFFIX = ".aquagait.json"
@@ -139,6 +146,7 @@ class Metadata:
         pd: the ``pd`` entries given.
         grid: the ``grid`` entries given (resolution as a tuple of ints).
         energy_bound: [J], or None.
+        energy_weight: [1/J], or None.
         gaits: shipped gaits by name: ``{"params": dict | list, "provenance": dict}``.
     """
 
@@ -148,6 +156,7 @@ class Metadata:
     pd: Mapping = field(default_factory=dict)
     grid: Mapping = field(default_factory=dict)
     energy_bound: float | None = None
+    energy_weight: float | None = None
     gaits: Mapping = field(default_factory=dict)
 
 
@@ -212,6 +221,7 @@ def build_creature(model: Model, meta: Metadata, name: str) -> Creature:
         resolution=resolution,
         cell_size=cell_size,
         energy_bound=_energy_bound(model, spec, meta, notes),
+        energy_weight=Weights.energy if meta.energy_weight is None else meta.energy_weight,
         natural_frequency=float(pd["natural_frequency"]),
         damping_ratio=float(pd["damping_ratio"]),
         description=meta.description or _description(model),

@@ -15,7 +15,7 @@ import math
 from aquagait.control.gait import KINDS
 
 KEYS = {
-    "": ("description", "gait", "pd", "grid", "energy_bound", "gaits"),
+    "": ("description", "gait", "pd", "grid", "energy_bound", "energy_weight", "gaits"),
     "gait": (
         "dofs",
         "free",
@@ -253,7 +253,7 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
 
     Returns:
         ``{"description": str, "gait": {...}, "pd": {...}, "grid": {...},
-        "energy_bound": float, "gaits": {...}}`` with only the entries given
+        "energy_bound": float, "energy_weight": float, "gaits": {...}}`` with only the entries given
         (lists of names as tuples, bounds as (lo, hi) pairs), and the list of
         problems (empty: the shapes and types are right).
     """
@@ -269,5 +269,7 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
         out["description"] = check.string(top["description"], "description")
     if "energy_bound" in top:
         out["energy_bound"] = check.number(top["energy_bound"], "energy_bound", 0, True, "J")
+    if "energy_weight" in top:
+        out["energy_weight"] = check.number(top["energy_weight"], "energy_weight", lower=0)
     out["gaits"] = shipped(check, top.get("gaits", {}))
     return out, check.problems
