@@ -65,44 +65,56 @@ group lists both sides, and CMA-ES varies the left (independent) parameters.
 
 Gait: 18 parameters, amplitude and phase of the 9 left DOFs (period 1 s and
 offset 0 fixed; amplitude bounds: the joint limits; phase [-pi, pi]).
-Shipped ``straight`` gait (hand-set), a frog kick: the hind legs extend
-together, proximal joints first, the web broadside while the leg extends and
-feathered while it flexes, the hip lowering the thigh while it extends (this
-keeps the body from pitching nose down); the forelimbs nearly still.
+Shipped ``hand-set`` gait, a frog kick: the hind legs extend together,
+proximal joints first, the web broadside while the leg extends and feathered
+while it flexes, the hip lowering the thigh while it extends (this keeps the
+body from pitching nose down); the forelimbs nearly still. The shipped
+``straight`` gait is that kick as the optimizer left it (below): the hind
+legs' amplitudes and phases are the table's, the forelimbs' its own.
 
-===============  ========================  =======  =============
-DOF              amplitude bounds [rad]    default  default phase
-===============  ========================  =======  =============
-hip_abd_l        [0, 0.436]                0.30     3.14
-hip_flex_l       [0, 0.785]                0.36     0
-knee_l           [0, 1.484]                0.53     2.64
-ankle_l          [0, 1.484]                0.53     -1.0
-tmt_l            [0, 0.524]                0.20     -1.5
-foot_twist_l     [0, 0.873]                0.45     -2.57
-shoulder_abd_l   [0, 0.524]                0        0
-shoulder_flex_l  [0, 0.698]                0.10     0
-elbow_l          [0, 0.785]                0.10     3.14
-===============  ========================  =======  =============
+===============  ========================  ========  ========  ============
+DOF              amplitude bounds [rad]    hand-set  phase     straight
+===============  ========================  ========  ========  ============
+hip_abd_l        [0, 0.436]                0.30      3.14      same
+hip_flex_l       [0, 0.785]                0.36      0         same
+knee_l           [0, 1.484]                0.53      2.64      same
+ankle_l          [0, 1.484]                0.53      -1.0      same
+tmt_l            [0, 0.524]                0.20      -1.5      same
+foot_twist_l     [0, 0.873]                0.45      -2.57     same
+shoulder_abd_l   [0, 0.524]                0         0         0.03, -1.35
+shoulder_flex_l  [0, 0.698]                0.10      0         0.11, -0.73
+elbow_l          [0, 0.785]                0.10      3.14      0.29, 2.89
+===============  ========================  ========  ========  ============
 
-On the default grid (Euler fluid, 2 s from rest) it swims 0.15 body lengths
-per cycle (0.24 in the second cycle), straight (heading change 0.03 deg, no
-sideways drift; the body pitches up to 12 deg within a kick and ends 3.5 deg
-nose down, 5 mm lower), and spends 10.5 mJ, just under the bound; the hind
-legs do over 99% of the work. Over four cycles from rest: 0.23 body lengths
-per cycle, 0.29 steady, Strouhal 1.04, cost of transport 1.9 J/(kg m).
+The hand-set kick on the default grid (Euler fluid, 2 s from rest) swims
+0.15 body lengths per cycle (0.24 in the second cycle), straight (heading
+change 0.03 deg, no sideways drift; the body pitches up to 12 deg within a
+kick and ends 3.5 deg nose down, 5 mm lower), and spends 10.5 mJ, just under
+the bound; the hind legs do over 99% of the work. Over four cycles from
+rest: 0.23 body lengths per cycle, 0.29 steady, Strouhal 1.04, cost of
+transport 1.9 J/(kg m).
 
-Shipped ``optimized`` gait, not the default: ``aquagait optimize frog
---generations 10 --seed 1 --popsize 16 --resolution 96 80 56`` (10 generations
-of 16 for the hind legs, then 10 for the forelimbs, each parameter spread over
-a quarter of its range around the hand-set kick; 5,207 s on 2 workers):
-objective -0.099 against the hand-set kick's -0.044. It swims 0.41 body
-lengths per cycle from rest over 2 s (0.57 in the second cycle, Strouhal
-1.11), the thigh swinging wide (hip flexion 0.68 rad) and the ankle and the
-web's twist nearly still, but spends 44.4 mJ over the two cycles, 4.1 times
-the bound: the objective's energy term (the work in joules, weight 1 above the
-bound) costs a 63 g frog less than the distance the extra work buys, and every
-generation's best spent 22-55 mJ. It stays a named gait until the objective
-weighs energy on the creature's own scale.
+Energy weight 20 per joule (``frog.aquagait.json``, ``energy_weight``; paper
+§4: "users can also change the weights"), not the default 1. A search at
+weight 1, ``aquagait optimize frog --generations 10 --seed 1 --popsize 16
+--resolution 96 80 56 --energy-weight 1`` (10 generations of 16 for the hind
+legs, then 10 for the forelimbs, each parameter spread over a quarter of its
+range around the hand-set kick; 5,207 s on 2 workers), found the shipped
+``optimized`` gait: objective -0.099 against the hand-set kick's -0.044,
+0.41 body lengths per cycle from rest over 2 s (0.57 in the second cycle,
+Strouhal 1.11), the thigh swinging wide (hip flexion 0.68 rad) and the ankle
+and the web's twist nearly still, but 44.4 mJ over the two cycles, 4.1
+times the bound: the work in joules at weight 1 costs a 63 g frog less than
+the distance it buys, and every generation's best spent 22-55 mJ. At weight
+20, passing the 10.8 mJ bound costs at least 0.22, more than any kick gains.
+
+Shipped ``straight`` gait: the same search at weight 20 (``--start hand-set``,
+4,685 s): the hind legs' group found no kick better than the hand-set one
+(which spends 10.5 of the 10.8 mJ), the forelimbs' group a small stroke:
+objective -0.0446 against -0.0436, the same 0.057 m in 2 s. Over four cycles
+from rest: 0.234 body lengths per cycle, 0.290 steady, Strouhal 1.02, cost of
+transport 1.88 J/(kg m), heading 9.3 deg off +x, 10.5 mJ over the first two
+cycles.
 
 Default grid 96 x 80 x 56 cells of 4 mm = 0.384 x 0.32 x 0.224 m, wider and
 taller than the paper's 96 x 64 x 48: the hand-set kick's widest pose is 0.13
