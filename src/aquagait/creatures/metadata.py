@@ -76,7 +76,7 @@ The entries (units: rad, s, m, J; the paper's gait is
   ``objectives.total``: once the work passes the bound, the objective adds this
   times it. Default 1 (paper §4). A small creature, whose joule is worth more
   than a metre of swimming, needs more: the frog has 20 (at 1 its search spent
-  4x the bound for 3x the distance). ``aquagait optimize --energy-weight``
+  4.1x the bound for 2.7x the distance). ``aquagait optimize --energy-weight``
   overrides it.
 - ``gaits``: shipped gaits by name; ``straight`` is the creature's default
   gait; ``turn-left``, ``turn-right``, ``pitch-up`` and ``pitch-down`` are its
