@@ -119,6 +119,43 @@ def test_optimize_command_writes_the_run_directory_and_resumes(tmp_path, capsys)
     assert json.loads((out / "gait.json").read_text())["params"] == gait["params"]
 
 
+def test_the_default_search_stops_by_itself_and_a_resume_after_it_says_so(tmp_path, capsys):
+    """No generation count: CMA-ES's own population for eel2d's 8 parameters (10), the
+    patience rule on, and here the evaluation cap, met exactly, stops it."""
+    out = tmp_path / "eel"
+    argv = ["optimize", "eel2d", "--max-evaluations", "13", "--workers", "1", "--out", str(out),
+            "--resolution", "48", "28", "--cell-size", "0.025", "--no-video"]  # fmt: skip
+    assert cli.main(argv) == 0
+    streams = capsys.readouterr()
+    assert "population 10, until the best improves less than 1 % in 34 generations, " \
+        "at most 13 evaluations" in streams.err  # fmt: skip
+    assert "after 13 samples (max_evaluations (13)" in streams.out
+    config = json.loads((out / "config.json").read_text())["optimization"]
+    assert (config["populations"], config["max_evaluations"], config["generations"]) == (
+        [10], 13, None)  # fmt: skip
+    assert cli.main(argv + ["--resume"]) == 0
+    assert (
+        "has already stopped (max_evaluations (13)): nothing to resume" in capsys.readouterr().err
+    )
+    assert cli.main(argv[:3] + ["14"] + argv[4:] + ["--resume"]) == 2  # another cap: refused
+    assert "max_evaluations: 13 in the checkpoint, 14 now" in capsys.readouterr().err
+
+
+def test_a_generation_count_alone_keeps_the_papers_fixed_budget():
+    setup = prepare_optimization("eel2d", generations=100, popsize=16, **COARSE)
+    assert setup.settings.for_group(8) == (16, None)
+    assert setup.budget() == "population 16, at most 100 generations"
+    both = prepare_optimization("eel2d", generations=50, patience=5, **COARSE)
+    assert both.budget() == (
+        "population 10, at most 50 generations, until the best improves less than 1 % in 5 "
+        "generations"
+    )
+    frog = prepare_optimization("frog", fluid="none")  # hind legs (12 parameters), fore (6)
+    assert frog.populations() == [11, 9]
+    with pytest.raises(OptimizationSetupError, match="max evaluations must be at least 1"):
+        prepare_optimization("eel2d", max_evaluations=0, **COARSE)
+
+
 @pytest.mark.slow
 def test_demo_finds_a_gait_that_swims_a_third_of_a_body_length_per_cycle(tmp_path):
     """The README's main job: in at most 10 minutes on 2 cores (measured about 1 minute)."""

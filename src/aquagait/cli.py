@@ -14,6 +14,8 @@ from aquagait.bench import BENCHMARKS
 from aquagait.objectives import MANEUVERS
 from aquagait.sim import FLUIDS
 
+CONVERGED = "converged"
+"""``compare --optimize`` with no count: each search runs until it has converged."""
 NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF file"
 GAIT_HELP = (
     "a gait.json, or the name of a gait the creature ships (hand-set, optimized, turn-left, "
@@ -172,6 +174,8 @@ def _cmd_optimize(args) -> int:
             start=args.start,
             step=args.step,
             energy_weight=args.energy_weight,
+            max_evaluations=args.max_evaluations,
+            patience=args.patience,
         )
         label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
         out = output_directory(args.out or Path("runs") / label)
@@ -196,9 +200,10 @@ def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, 
     try:
         with _executor(args) as executor:
             workers = executor.describe() if executor else "1 worker (this process)"
-            name, size, popsize = setup.creature.name, setup.problem.size, setup.settings.popsize
-            print(f"optimizing {name}: {size} parameters, population {popsize}, "
-                  f"{workers}", file=sys.stderr)  # fmt: skip
+            name, size = setup.creature.name, setup.problem.size
+            print(f"optimizing {name}: {size} parameters, {setup.budget()}; {workers}",
+                  file=sys.stderr)  # fmt: skip
+            _say_if_finished(out, args.resume)
             result = run_optimization(setup, out, executor, args.resume, GenerationLine())
     except ExecutorLost as err:
         return _fail("optimize", err, status=1)
@@ -212,6 +217,16 @@ def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, 
           f"({result.stopped}{start})")  # fmt: skip
     swim = best_swim(setup, out, default_grid=default_grid, seconds=seconds)
     return _swim_and_write(swim, out, video, extra_config={"optimization": setup.config()})
+
+
+def _say_if_finished(out: Path, resume: bool) -> None:
+    """A resumed run that had already stopped is not searched again: say so."""
+    from aquagait.optimize import finished_run
+
+    stopped = finished_run(out) if resume else None
+    if stopped is not None:
+        print(f"the run in {out} has already stopped ({stopped}): nothing to resume; "
+              "its best gait is written and swum again", file=sys.stderr)  # fmt: skip
 
 
 def _executor(args):
@@ -256,7 +271,7 @@ def _cmd_compare(args) -> int:
     grid = dict(resolution=args.resolution, cell_size=args.cell_size)
     given = {"--resume": args.resume, "--start": args.start, "--popsize": args.popsize}
     alone = [flag for flag, value in given.items() if value]
-    if alone and not args.optimize:
+    if alone and args.optimize is None:
         return _fail("compare", f"{', '.join(alone)}: only with --optimize G", status=2)
     try:
         name = find_creature(args.name).name
@@ -273,18 +288,21 @@ def _cmd_compare(args) -> int:
               f"{m['body_lengths_per_cycle_from_rest']:.3f} body lengths per cycle from rest"
               f"{steady}")  # fmt: skip
     cross = None
-    if args.optimize:
+    if args.optimize is not None:
         from aquagait.optimize import ExecutorLost
 
+        budget = "until converged" if args.optimize == CONVERGED else f"{args.optimize} generations"
+        generations_given = None if args.optimize == CONVERGED else args.optimize
+
         def generations(fluid):
-            print(f"optimizing {name} in the {fluid} fluid ({args.optimize} generations, "
+            print(f"optimizing {name} in the {fluid} fluid ({budget}, "
                   f"run directory {out / f'optimize-{fluid}'})", file=sys.stderr)  # fmt: skip
             return GenerationLine()
 
         try:
             with _executor(args) as executor:
                 cross = cross_optimize(
-                    args.name, args.optimize, args.seconds, seed=args.seed, executor=executor,
+                    args.name, generations_given, args.seconds, seed=args.seed, executor=executor,
                     out=out, resume=args.resume, start=args.start, popsize=args.popsize,
                     progress=generations, **grid,
                 )  # fmt: skip
@@ -328,8 +346,9 @@ class GenerationLine:
 
     def __call__(self, report) -> None:
         left = f"{report.remaining:.0f} s left" if math.isfinite(report.remaining) else ""
+        planned = "" if report.planned is None else f"/{report.planned}"
         print(
-            f"generation {report.generation:>3}/{report.planned}  best {report.best:.4g}  "
+            f"generation {report.generation:>3}{planned}  best {report.best:.4g}  "
             f"mean {report.mean:.4g}  sigma {report.sigma:.3g}  failed {report.failed}  "
             f"lost {report.lost}  infeasible {report.infeasible}  {report.elapsed:.0f} s  {left}",
             file=self.stream,
@@ -449,8 +468,18 @@ def build_parser() -> argparse.ArgumentParser:
         "optimize", help="find a gait with CMA-ES; write gait.json, the log and the best swim"
     )
     optimize.add_argument("name", metavar="NAME", help=NAME_HELP)
-    optimize.add_argument("--generations", type=int, default=100, help="CMA-ES generations")
-    optimize.add_argument("--popsize", type=int, help="samples per generation (2D 16, 3D 31)")
+    optimize.add_argument("--generations", type=int,
+                          help="the most CMA-ES generations (per group); given alone, a fixed "
+                          "budget as in the paper (100); default: stop when converged")  # fmt: skip
+    optimize.add_argument("--popsize", type=int,
+                          help="samples per generation (default: CMA-ES's 4 + 3 ln n for n "
+                          "parameters; the paper's: 16 in 2D, 31 in 3D)")  # fmt: skip
+    optimize.add_argument("--max-evaluations", type=int, metavar="N",
+                          help="stop after N swims in all (default: no cap)")  # fmt: skip
+    optimize.add_argument("--patience", type=int, metavar="G",
+                          help="stop a group when its best improved less than 1%% in G "
+                          "generations (default: 10 + 30 n / popsize; off with "
+                          "--generations alone)")  # fmt: skip
     _add_evaluator_flags(optimize)
     optimize.add_argument("--seed", type=int, default=0, help="random seed")
     optimize.add_argument("--resolution", type=int, nargs="+", metavar="N",
@@ -520,11 +549,12 @@ def build_parser() -> argparse.ArgumentParser:
     compare.add_argument("name", metavar="NAME", help=NAME_HELP)
     compare.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
     compare.add_argument("--seconds", type=float, default=3.0, help="simulated time [s]")
-    compare.add_argument("--optimize", type=int, default=0, metavar="G",
-                         help="also optimize a gait in each fluid for G generations "
-                         "and swim each in both")  # fmt: skip
+    compare.add_argument("--optimize", type=int, nargs="?", const=CONVERGED, metavar="G",
+                         help="also optimize a gait in each fluid (G generations; without G, "
+                         "until converged) and swim each in both")  # fmt: skip
     compare.add_argument("--popsize", type=int, metavar="N",
-                         help="--optimize: samples per generation (2D 16, 3D 31)")  # fmt: skip
+                         help="--optimize: samples per generation (default: CMA-ES's "
+                         "for the number of parameters)")  # fmt: skip
     compare.add_argument("--seed", type=int, default=0, help="--optimize: random seed")
     compare.add_argument("--start", metavar="FILE|NAME",
                          help="--optimize: the gait both searches start from "

@@ -156,7 +156,7 @@ def test_progress_reports_every_generation():
 
 def test_paper_settings():
     assert Settings.for_dim(2).popsize == 16 and Settings.for_dim(3).popsize == 31
-    assert Settings().generations == 100
+    assert Settings.for_dim(2).generations == 100 == Settings.paper(3).generations
     with pytest.raises(ValueError, match="dim must be 2 or 3"):
         Settings.for_dim(4)
 

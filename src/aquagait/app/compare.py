@@ -52,7 +52,7 @@ def forward_distance(run: SwimRun) -> float:
 
 def cross_optimize(
     name: str,
-    generations: int,
+    generations: int | None = None,
     seconds: float = 3.0,
     seed: int = 0,
     executor=None,
@@ -67,7 +67,8 @@ def cross_optimize(
 
     Args:
         name: library creature or MJCF path.
-        generations: CMA-ES generations in each fluid.
+        generations: the most CMA-ES generations in each fluid; None: each search
+            stops when converged (``prepare_optimization``).
         seconds: how long each gait swims in each fluid afterwards [s].
         seed: the searches' seed (the same in both fluids).
         executor: evaluates the samples (``aquagait.optimize``); None: this process.
@@ -78,7 +79,7 @@ def cross_optimize(
             one is read back, not run again).
         start: where both searches start (``prepare_optimization``); None: the
             shipped gait.
-        popsize: samples per generation; None: 16 in 2D, 31 in 3D.
+        popsize: samples per generation; None: CMA-ES's for the number of parameters.
         progress: optional ``progress(fluid)`` returning the per-generation
             callback of that fluid's search (``GenerationLine``).
         **grid: ``resolution`` and ``cell_size`` for the Euler fluid.

@@ -39,9 +39,11 @@ DEFAULT_CYCLES = 2.0
 """Gait cycles simulated per sample (paper §4)."""
 
 POPULATION = {2: 16, 3: 31}
-"""CMA-ES population per creature dimension (paper §4)."""
+"""The paper's CMA-ES population per creature dimension (§4); the default is CMA-ES's own
+for the number of parameters (``aquagait.optimize.default_popsize``)."""
 
-DEFAULT_GENERATIONS = 100
+PAPER_GENERATIONS = 100
+"""The paper's generations (§4); by default a search stops when it has converged."""
 
 
 class OptimizationSetupError(SetupError):
@@ -126,7 +128,7 @@ class OptimizationSetup:
         problem: start, bounds, feasibility and groups for the optimizer; in a
             coarse-to-fine search ``problem.refine`` is the swim on the target
             grid and ``objective`` the one on the coarse grid.
-        settings: population, generations, seed.
+        settings: population, generations, seed, evaluation cap, convergence rule.
         notes: what to know about the search (a coarse grid that may rank poorly).
         start: the gait the search started from (a file or a shipped gait's name),
             None for the default start.
@@ -159,6 +161,8 @@ class OptimizationSetup:
             direction=list(o.direction),
             weights=vars(o.weights), energy_bound=self.creature.energy_bound,
             popsize=s.popsize, generations=s.generations, seed=s.seed,
+            populations=self.populations(), max_evaluations=s.max_evaluations,
+            patience=s.patience, tolerance=s.tolerance,
             parameters=list(self.problem.names), start=self.start, step=self.step,
             x0=self.problem.x0.tolist(),
             lower=self.problem.lower.tolist(), upper=self.problem.upper.tolist(),
@@ -168,10 +172,31 @@ class OptimizationSetup:
             refine_top=None if self.problem.refine is None else s.refine_top,
         )  # fmt: skip
 
+    def populations(self) -> list[int]:
+        """Samples per generation of each group in turn (one entry without groups)."""
+        return [self.settings.for_group(len(group))[0] for group in self.problem.phases()]
+
+    def budget(self) -> str:
+        """When the search stops, in words (for the first line of ``aquagait optimize``)."""
+        s = self.settings
+        popsizes = sorted(set(self.populations()))
+        words = [f"population {'/'.join(map(str, popsizes))}"]
+        if s.generations is not None:
+            words.append(f"at most {s.generations} generations")
+        patience = sorted({s.for_group(len(g))[1] or 0 for g in self.problem.phases()})
+        if patience != [0]:
+            words.append(
+                f"until the best improves less than {100 * s.tolerance:g} % in "
+                f"{'/'.join(map(str, patience))} generations"
+            )
+        if s.max_evaluations is not None:
+            words.append(f"at most {s.max_evaluations} evaluations")
+        return ", ".join(words)
+
 
 def prepare_optimization(
     name: str,
-    generations: int = DEFAULT_GENERATIONS,
+    generations: int | None = None,
     popsize: int | None = None,
     seed: int = 0,
     resolution=None,
@@ -184,13 +209,23 @@ def prepare_optimization(
     start=None,
     step: float | None = None,
     energy_weight: float | None = None,
+    max_evaluations: int | None = None,
+    patience: int | None = None,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
+    By default the search is fitted to the problem (``aquagait.optimize.Settings``):
+    CMA-ES's population for the number of parameters, and no fixed number of
+    generations; it stops when its best has stopped improving. The paper's
+    budget is ``popsize=16`` (2D) or 31 (3D) with ``generations=100``.
+
     Args:
         name: a library creature (``aquagait creatures``) or the path of an MJCF file.
-        generations: CMA-ES generations (per group, for grouped gaits).
-        popsize: samples per generation; default 16 in 2D, 31 in 3D.
+        generations: the most CMA-ES generations (per group, for grouped gaits);
+            None: no cap. A count given turns the convergence rule off unless
+            ``patience`` is given too (the paper's fixed budget, as before).
+        popsize: samples per generation; None: CMA-ES's ``4 + floor(3 ln n)`` for
+            the ``n`` parameters of each group (``aquagait.optimize.default_popsize``).
         seed: random seed: the same seed gives the same gait, serial or parallel.
         resolution, cell_size: the fluid grid; default the creature's.
         fluid: 'euler', 'simple' or 'none'.
@@ -211,6 +246,11 @@ def prepare_optimization(
             its range (0 < step <= 1); None: a quarter (``Problem.sigma0``).
         energy_weight: the objective's energy weight [1/J] (``objectives.Weights``);
             None: the creature's (``Creature.energy_weight``, 1 unless its side-car says).
+        max_evaluations: the most swims of the whole search (the start's included);
+            None: no cap.
+        patience: generations without a ``Settings.tolerance`` improvement of the
+            best before a group stops; None: ``aquagait.optimize.default_patience``
+            unless ``generations`` is given, then off.
 
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
@@ -221,11 +261,10 @@ def prepare_optimization(
         raise OptimizationSetupError(str(err)) from None
     key = creature_key(creature)  # what workers resolve
     name = creature.name
-    if generations < 1:
-        raise OptimizationSetupError(f"generations must be at least 1, got {generations}")
-    popsize = POPULATION[creature.dim] if popsize is None else popsize
-    if popsize < 2:
-        raise OptimizationSetupError(f"popsize must be at least 2, got {popsize}")
+    for flag, value, least in [("generations", generations, 1), ("popsize", popsize, 2),
+                               ("max evaluations", max_evaluations, 1)]:  # fmt: skip
+        if value is not None and value < least:
+            raise OptimizationSetupError(f"{flag} must be at least {least}, got {value}")
     if resolution is not None and len(resolution) != creature.dim:
         raise OptimizationSetupError(
             f"{name} is {creature.dim}D: give {creature.dim} numbers to --resolution, "
@@ -274,7 +313,8 @@ def prepare_optimization(
     )
     try:
         settings = Settings(popsize=popsize, generations=generations, seed=seed,
-                            refine_top=refine_top)  # fmt: skip
+                            refine_top=refine_top, max_evaluations=max_evaluations,
+                            patience=patience)  # fmt: skip
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     notes += _room_notes(scene, gait, problem)

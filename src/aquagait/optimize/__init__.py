@@ -11,12 +11,16 @@ interrupted generation unsaved, to be resumed on any executor.
 
     problem = Problem(objective, x0, lower, upper, feasible=within_joint_limits)
     with local_executor() as executor:
-        result = optimize(problem, Settings.for_dim(2), executor, run_dir="runs/eel2d")
+        result = optimize(problem, Settings(seed=1), executor, run_dir="runs/eel2d")
+
+`Settings()` fits the budget to the problem (CMA-ES's population for the
+number of parameters, stop when converged); `Settings.paper(2)` is the
+paper's 16 x 100.
 """
 
 from aquagait.optimize import checkpoint
 from aquagait.optimize.checkpoint import CHECKPOINT, FAILURES, LOG
-from aquagait.optimize.cmaes import optimize
+from aquagait.optimize.cmaes import finished_run, optimize
 from aquagait.optimize.evaluate import ExecutorLost, Outcome, evaluate
 from aquagait.optimize.executors import (
     DaskExecutor,
@@ -24,7 +28,14 @@ from aquagait.optimize.executors import (
     dask_executor,
     local_executor,
 )
-from aquagait.optimize.problem import GenerationReport, Problem, Result, Settings
+from aquagait.optimize.problem import (
+    GenerationReport,
+    Problem,
+    Result,
+    Settings,
+    default_patience,
+    default_popsize,
+)
 
 __all__ = [
     "CHECKPOINT",
@@ -40,7 +51,10 @@ __all__ = [
     "Settings",
     "checkpoint",
     "dask_executor",
+    "default_patience",
+    "default_popsize",
     "evaluate",
+    "finished_run",
     "local_executor",
     "optimize",
 ]

@@ -1,11 +1,19 @@
 """CMA-ES on pycma's ask/tell, with feasibility, groups and checkpoints (paper §4).
 
-One generation: ask pycma for `popsize` samples; redraw each infeasible one up
+One generation: ask pycma for `popsize` samples (by default CMA-ES's own
+population for the group's size, ``problem.default_popsize``); redraw each infeasible one up
 to `max_resamples` times, checking `feasible` here before anything runs; give
 the ones still infeasible the penalty; evaluate the rest (serially or through
 an executor), placing each value by its sample index; tell pycma; write the
 checkpoint and the log. Groups (paper §4, frog) run one after another, each a
 fresh CMA-ES over its coordinates, started from the best point so far.
+
+When it stops. A group ends at the first of: its `Settings.generations`
+(when set), convergence (its best improved by no more than
+`Settings.tolerance` of itself over the last `patience` generations), or one
+of pycma's own criteria; the whole run ends early at `max_evaluations`,
+whose last generation is cut short to meet the cap exactly. `Result.stopped`
+and the log say which.
 
 Determinism and resume. Every random number comes from one
 `numpy.random.Generator` seeded with `Settings.seed`, handed to pycma as its
@@ -80,6 +88,7 @@ class _Run:
     stopped: list[str] = field(default_factory=list)
     finished: bool = False
     start_f: float | None = None  # the start's value (refine's, if any); None: not scored
+    group_start_f: float = math.inf  # the best when the group began (the patience rule's base)
 
 
 def optimize(
@@ -121,14 +130,18 @@ def optimize(
     check_picklable(problem.objective, executor)
     run = _begin(problem, settings, run_dir, resume)
     phases = problem.phases()
-    planned = settings.generations * len(phases)
+    planned = None if settings.generations is None else settings.generations * len(phases)
     clock = _Clock(run)
     if run.evaluations == 0 and not run.history:
         _score_start(problem, settings, run, executor)
+        run.group_start_f = run.best_f
     while not run.finished:
+        if _budget_spent(run, settings):
+            _end_run(run, f"max_evaluations ({settings.max_evaluations})", len(phases))
+            continue
         if run.es is None:
             run.es = _strategy(problem, settings, phases[run.group], run)
-        reason = _stop_reason(run, settings)
+        reason = _stop_reason(run, settings, len(phases[run.group]))
         if reason:
             _end_group(run, reason, len(phases))
             continue
@@ -143,7 +156,7 @@ def optimize(
         if run_dir is not None:
             _save(Path(run_dir), problem, settings, run)
         if progress is not None:
-            progress(_report(run, planned, settings.popsize, clock))
+            progress(_report(run, planned, settings.max_evaluations, clock))
     if run_dir is not None:
         _save(Path(run_dir), problem, settings, run)
     return Result(
@@ -155,6 +168,18 @@ def optimize(
         refinements=run.refinements,
         start_f=run.start_f,
     )
+
+
+def finished_run(run_dir: str | Path) -> str | None:
+    """Why the run whose checkpoint is in ``run_dir`` stopped, if it has (its
+    ``Result.stopped``); None if it has not, or there is no checkpoint.
+
+    Resuming a finished run searches nothing more: ``optimize`` returns its result at once.
+    """
+    if not (Path(run_dir) / checkpoint.CHECKPOINT).is_file():
+        return None
+    run = checkpoint.load(Path(run_dir))["run"]
+    return "; ".join(run["stopped"]) if run["finished"] else None
 
 
 def _score_start(problem: Problem, settings: Settings, run: _Run, executor) -> None:
@@ -211,9 +236,9 @@ def _strategy(problem: Problem, settings: Settings, group: np.ndarray, run: _Run
     import cma  # here, not at the top: workers import this package and need no pycma (1 s)
 
     width = problem.upper - problem.lower
+    popsize, _ = settings.for_group(len(group))
     options = {
-        "popsize": settings.popsize,
-        "maxiter": settings.generations,
+        "popsize": popsize,
         "tolfun": settings.tolfun,
         "tolx": settings.tolx,
         "bounds": [problem.lower[group].tolist(), problem.upper[group].tolist()],
@@ -225,6 +250,8 @@ def _strategy(problem: Problem, settings: Settings, group: np.ndarray, run: _Run
         "verb_disp": 0,
         "verb_log": 0,
     }
+    if settings.generations is not None:
+        options["maxiter"] = settings.generations
     if len(group) == 1:
         # pycma 4.5 fails ("not yet initialized") whenever it caps the step size of a
         # one-coordinate search; uncapped, BoundTransform still keeps samples in the box
@@ -238,9 +265,13 @@ def _strategy(problem: Problem, settings: Settings, group: np.ndarray, run: _Run
 FLAT_FITNESS = {"tolfun", "tolfunhist", "tolflatfitness", "tolfunrel"}
 
 
-def _stop_reason(run: _Run, settings: Settings) -> str:
-    if run.group_generations >= settings.generations:
+def _stop_reason(run: _Run, settings: Settings, n: int) -> str:
+    """Why the group should stop now ("" if it should go on)."""
+    if settings.generations is not None and run.group_generations >= settings.generations:
         return f"generations ({settings.generations})"
+    converged = _converged(run, settings.for_group(n)[1], settings.tolerance)
+    if converged:
+        return converged
     reasons = run.es.stop()
     last = run.history[-1] if run.group_generations else None
     if last is not None and last["failures"] + last["infeasible"] > 0:
@@ -248,10 +279,35 @@ def _stop_reason(run: _Run, settings: Settings) -> str:
     return ", ".join(f"{key}={value}" for key, value in reasons.items())
 
 
+def _converged(run: _Run, patience: int | None, tolerance: float) -> str:
+    """The patience rule: "converged: ..." when the group's best improved by no more than
+    ``tolerance`` of itself over its last ``patience`` generations, else ""."""
+    if patience is None or run.group_generations < patience:
+        return ""
+    bests = [row["best"] for row in run.history[-run.group_generations :]]
+    before = bests[-patience - 1] if len(bests) > patience else run.group_start_f
+    gain = before - bests[-1]
+    if not gain <= tolerance * abs(bests[-1]):  # inf - x (nothing scored yet) goes on
+        return ""
+    share = 100 * gain / abs(bests[-1]) if bests[-1] else 0.0
+    return f"converged: best improved {share:.2g} % in {patience} generations"
+
+
+def _budget_spent(run: _Run, settings: Settings) -> bool:
+    return settings.max_evaluations is not None and run.evaluations >= settings.max_evaluations
+
+
 def _end_group(run: _Run, reason: str, groups: int) -> None:
     run.stopped.append(f"group {run.group}: {reason}" if groups > 1 else reason)
     run.group, run.es, run.group_generations = run.group + 1, None, 0
+    run.group_start_f = run.best_f
     run.finished = run.group == groups
+
+
+def _end_run(run: _Run, reason: str, groups: int) -> None:
+    """End the run in its current group, whatever is left (the evaluation budget is spent)."""
+    _end_group(run, reason, groups)
+    run.finished = True
 
 
 def _generation(problem: Problem, settings: Settings, group, run: _Run, executor) -> None:
@@ -266,6 +322,12 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
     samples = run.es.ask()
     infeasible, resamples = _reject_infeasible(run.es, samples, full, problem.feasible, settings)
     todo = [i for i in range(len(samples)) if i not in infeasible]
+    cut = (
+        settings.max_evaluations is not None
+        and run.evaluations + len(todo) > settings.max_evaluations
+    )
+    if cut:  # the budget's last generation: evaluate up to the cap, tell CMA-ES nothing
+        todo = todo[: settings.max_evaluations - run.evaluations]
     outcomes = evaluate(
         problem.objective, [full(samples[i]) for i in todo], executor, settings.retries,
         settings.penalty,
@@ -288,7 +350,8 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
     else:
         scored = _refined(problem, settings, ranked, full, samples, executor)
         run.refinements += len(scored)
-    run.es.tell(samples, values.tolist())
+    if not cut:
+        run.es.tell(samples, values.tolist())
     run.evaluations += len(todo)
     run.group_generations += 1
     for i, value in scored:
@@ -298,7 +361,7 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
         {"sample": i, "status": status, "reason": why, "x": full(samples[i]).tolist()}
         for i, (status, why) in sorted(penalized.items())
     ]
-    run.history.append(_record(run, values[succeeded], penalties, resamples))
+    run.history.append(_record(run, values[succeeded], penalties, resamples, len(samples)))
 
 
 def _refined(problem: Problem, settings: Settings, ranked, full, samples, executor) -> list:
@@ -315,8 +378,10 @@ def _refined(problem: Problem, settings: Settings, ranked, full, samples, execut
     return [(i, o.value) for i, o in zip(top, outcomes, strict=True) if o.status == OK]
 
 
-def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: int) -> dict:
-    """One row of the history: the run after a generation whose good values are `succeeded`."""
+def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: int,
+            samples: int) -> dict:  # fmt: skip
+    """One row of the history: the run after a generation of ``samples`` drawn samples
+    (CMA-ES's population) whose good values are `succeeded`."""
     statuses = [p["status"] for p in penalized]
     failed, lost, infeasible = (statuses.count(s) for s in (FAILED, LOST, INFEASIBLE))
     return {
@@ -332,6 +397,7 @@ def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: 
         "lost": lost,
         "infeasible": infeasible,
         "resamples": resamples,
+        "samples": samples,
         "elapsed": run.elapsed,
         "refinements": run.refinements,
         "best_x": run.best_x.tolist(),
@@ -365,23 +431,35 @@ def _save(run_dir: Path, problem: Problem, settings: Settings, run: _Run) -> Non
 
 
 class _Clock:
-    """Seconds spent, continuing a resumed run's count; generations done in this session."""
+    """Seconds spent, continuing a resumed run's count; generations and evaluations done in
+    this session."""
 
     def __init__(self, run: _Run):
         self.start, self.before = time.perf_counter(), run.elapsed
-        self.done_before = len(run.history)
+        self.done_before, self.evaluated_before = len(run.history), run.evaluations
         self.run = run
 
     def elapsed(self) -> float:
         return self.before + time.perf_counter() - self.start
 
     def per_generation(self) -> float:
-        done = len(self.run.history) - self.done_before
+        return self._per(len(self.run.history) - self.done_before)
+
+    def per_evaluation(self) -> float:
+        return self._per(self.run.evaluations - self.evaluated_before)
+
+    def _per(self, done: int) -> float:
         return (self.elapsed() - self.before) / done if done else math.nan
 
 
-def _report(run: _Run, planned: int, popsize: int, clock: _Clock) -> GenerationReport:
+def _report(run: _Run, planned: int | None, cap: int | None, clock: _Clock) -> GenerationReport:
     row = run.history[-1]
+    if planned is not None:
+        remaining = clock.per_generation() * max(planned - row["generation"], 0)
+    elif cap is not None:
+        remaining = clock.per_evaluation() * max(cap - row["evaluations"], 0)
+    else:
+        remaining = math.nan
     reasons = tuple(
         f"sample {p['sample']} {p['status']}: {p['reason']}"
         for p in row["penalized"]
@@ -397,8 +475,8 @@ def _report(run: _Run, planned: int, popsize: int, clock: _Clock) -> GenerationR
         evaluations=row["evaluations"],
         failures=row["failures"],
         elapsed=run.elapsed,
-        remaining=clock.per_generation() * max(planned - row["generation"], 0),
-        samples=popsize,
+        remaining=remaining,
+        samples=row["samples"],
         failed=row["failed"],
         lost=row["lost"],
         infeasible=row["infeasible"],

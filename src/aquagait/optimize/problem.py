@@ -8,6 +8,7 @@ to be minimized, plus an optional feasibility test (joint limits, paper §4).
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -15,6 +16,7 @@ import numpy as np
 
 # Paper §4: population 16 for 2D creatures, 31 for 3D ones, up to 100 generations.
 PAPER_POPSIZE = {2: 16, 3: 31}
+PAPER_GENERATIONS = 100
 
 
 def _vector(name: str, value, n: int | None = None) -> np.ndarray:
@@ -133,14 +135,49 @@ class Problem:
         return self.groups or (np.arange(self.size),)
 
 
+def default_popsize(n: int) -> int:
+    """CMA-ES's recommended population for ``n`` parameters, ``4 + floor(3 ln n)`` (Hansen's
+    default, pycma's ``popsize``): 10 for eel2d's 8, 9 for the fish's 6, 13 for the manta's 21."""
+    return 4 + int(3 * math.log(n))
+
+
+def default_patience(n: int, popsize: int) -> int:
+    """Generations the best may stall before a search stops, ``10 + ceil(30 n / popsize)``: the
+    horizon of pycma's ``tolfunhist``, about the generations CMA-ES needs to adapt its step size
+    and covariance to ``n`` parameters from ``popsize`` samples each."""
+    return 10 + math.ceil(30 * n / popsize)
+
+
 @dataclass(frozen=True)
 class Settings:
-    """How the CMA-ES search runs (paper §4 defaults: 2D population, 100 generations).
+    """How the CMA-ES search runs, and when it stops.
+
+    By default the search is fitted to the problem: CMA-ES's own population for
+    each group's number of parameters (``default_popsize``) and no fixed number
+    of generations; a group stops when it has converged (``patience``), and the
+    whole search at ``max_evaluations`` if given. The paper's budget (§4: 16 in
+    2D, 31 in 3D, 100 generations) is ``Settings.paper(dim)``.
 
     Args:
-        popsize: samples per generation (paper: 16 in 2D, 31 in 3D; see `for_dim`).
-        generations: the most generations per group (all at once: per run).
+        popsize: samples per generation; None: ``default_popsize`` of each group's size.
+        generations: the most generations per group (all at once: per run); None: no cap.
         seed: seeds the only random generator the search draws from.
+        max_evaluations: the most evaluations of the objective in the whole run,
+            the start's included (refinements by ``Problem.refine`` are counted
+            apart); None: no cap. The last generation is cut short to meet it
+            exactly: its samples are evaluated in order up to the cap, count
+            towards the best, and are not told to CMA-ES (the run ends there).
+        patience: a group has converged, and stops, when its best objective
+            improved by no more than ``tolerance`` times its size over the last
+            ``patience`` generations (a rule on the best value, which CMA-ES's
+            own criteria, tuned for exact convergence, do not give). None:
+            ``default_patience`` of the group's size and population when
+            ``generations`` is None; off when a generation count is given (a
+            fixed budget, as the paper's: only ``generations`` and pycma's
+            criteria stop it). Give both for a capped search that may stop early.
+        tolerance: the relative improvement of the best that still counts as
+            progress over ``patience`` generations (0.01: 1 % of the distance a
+            gait swims is below the swim's own time-step and grid error).
         max_resamples: redraws of an infeasible sample before it gets `penalty`.
         penalty: the value given to a failed sample (objective raised, returned
             nan/inf, or its worker died `retries + 1` times) and to an infeasible
@@ -156,9 +193,12 @@ class Settings:
             samples (by `objective`) are evaluated with `refine`.
     """
 
-    popsize: int = 16
-    generations: int = 100
+    popsize: int | None = None
+    generations: int | None = None
     seed: int = 0
+    max_evaluations: int | None = None
+    patience: int | None = None
+    tolerance: float = 0.01
     max_resamples: int = 20
     penalty: float = 1e6
     retries: int = 1
@@ -172,30 +212,53 @@ class Settings:
             ("refine_top", self.refine_top, 1),
             ("generations", self.generations, 1),
             ("seed", self.seed, 0),
+            ("max_evaluations", self.max_evaluations, 1),
+            ("patience", self.patience, 1),
             ("max_resamples", self.max_resamples, 0),
             ("retries", self.retries, 0),
         ]
         for name, value, least in checks:
+            if value is None and name in OPTIONAL:
+                continue
             if not isinstance(value, int | np.integer) or value < least:
-                raise ValueError(f"Settings.{name} must be an integer >= {least}, got {value!r}")
+                none = " or None" if name in OPTIONAL else ""
+                raise ValueError(
+                    f"Settings.{name} must be an integer >= {least}{none}, got {value!r}"
+                )
         if not np.isfinite(self.penalty):
             raise ValueError(f"Settings.penalty must be finite, got {self.penalty!r}")
-        for name in ("tolfun", "tolx"):
+        for name in ("tolfun", "tolx", "tolerance"):
             if not getattr(self, name) >= 0:
                 raise ValueError(f"Settings.{name} must be >= 0, got {getattr(self, name)!r}")
 
     @classmethod
-    def for_dim(cls, dim: int, **overrides) -> Settings:
-        """The paper's settings for a 2D or 3D creature (population 16 or 31)."""
+    def paper(cls, dim: int, **overrides) -> Settings:
+        """The paper's fixed budget (§4): population 16 in 2D or 31 in 3D, 100 generations,
+        no convergence rule (pycma's own criteria still apply)."""
         if dim not in PAPER_POPSIZE:
             raise ValueError(f"dim must be 2 or 3, got {dim!r}")
-        return cls(**{"popsize": PAPER_POPSIZE[dim], **overrides})
+        budget = {"popsize": PAPER_POPSIZE[dim], "generations": PAPER_GENERATIONS}
+        return cls(**{**budget, **overrides})
+
+    for_dim = paper  # its name before the fitted budget (issue 29)
+
+    def for_group(self, n: int) -> tuple[int, int | None]:
+        """``(popsize, patience)`` of a group of ``n`` parameters (None: no patience rule)."""
+        popsize = default_popsize(n) if self.popsize is None else int(self.popsize)
+        patience = self.patience
+        if patience is None and self.generations is None:
+            patience = default_patience(n, popsize)
+        return popsize, patience
 
     def as_dict(self) -> dict:
         """The settings as plain Python values (for config files and checkpoints)."""
         return {
             k: v.item() if hasattr(v, "item") else v for k, v in dataclasses.asdict(self).items()
         }
+
+
+OPTIONAL = {"popsize", "generations", "max_evaluations", "patience"}
+"""Settings that may be None (the default: fitted to the problem, or no cap)."""
 
 
 LOSS_WARNING = 1 / 8
@@ -209,7 +272,8 @@ class GenerationReport:
 
     Attributes:
         generation: generations done so far, over all groups (1-based).
-        planned: the most generations the run can take (`generations * groups`).
+        planned: the most generations the run can take (`generations * groups`);
+            None when no generation count is set (the search stops by itself).
         group: index of the group being optimized (0 without groups).
         best: best objective value so far (inf while no sample succeeded).
         mean: mean of this generation's successful values (nan if none).
@@ -217,7 +281,8 @@ class GenerationReport:
         evaluations: samples evaluated so far (infeasible ones are not).
         failures: samples of this generation evaluated without a value, `failed + lost`.
         elapsed: seconds spent so far, over every session of a resumed run.
-        remaining: estimated seconds left if the run takes all `planned` generations.
+        remaining: estimated seconds left if the run takes all `planned` generations,
+            or all `max_evaluations`; nan when neither bounds it.
         samples: the generation's population.
         failed: samples whose objective raised or returned nan/inf (penalty).
         lost: samples whose worker died `retries + 1` times (penalty).
@@ -227,7 +292,7 @@ class GenerationReport:
     """
 
     generation: int
-    planned: int
+    planned: int | None
     group: int
     best: float
     mean: float
@@ -258,16 +323,17 @@ class Result:
             `Problem.refine`, its `refine` value, and best_x the best by it.
         history: one dict per generation with keys generation, group,
             evaluations, best, mean, generation_best, sigma, failures (failed
-            + lost), failed, lost, infeasible, resamples, elapsed, best_x (a
-            list), refinements (evaluations of `refine` so far) and
-            penalized: one dict per sample that got the penalty,
-            with its index ("sample"), "status" ("failed", "lost" or
-            "infeasible"), "reason" and "x" (a list). Every entry but `elapsed`
+            + lost), failed, lost, infeasible, resamples, samples (the
+            population drawn), elapsed, best_x (a list), refinements
+            (evaluations of `refine` so far) and penalized: one dict per
+            sample that got the penalty, with its index ("sample"), "status"
+            ("failed", "lost" or "infeasible"), "reason" and "x" (a list). Every entry but `elapsed`
             is a deterministic function of the problem and settings, unless a
             worker died (lost samples, and the messages of lost tasks).
         evaluations: samples evaluated (each counted once, retries included).
         stopped: why the search ended, per group ("generations (100)",
-            "tolfun=1e-11", ...).
+            "converged: best improved 0.3 % in 24 generations", "max_evaluations
+            (200)", "tolfun=1e-11", ...).
         refinements: evaluations of `Problem.refine` (0 without it).
         start_f: the start x0's value (by `refine`, if any), evaluated before
             the first generation; None if it was not (infeasible, failed, or a
