@@ -140,7 +140,10 @@ def test_the_progress_bar_writes_a_line_per_tenth_into_a_log():
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["bench", "swim", "--creature", "fish"], "--creature is for 'optimize', not 'swim'"),
+        (
+            ["bench", "swim", "--creature", "fish"],
+            "--creature and --seeds are for 'optimize', not 'swim'",
+        ),
         (["bench", "fluid", "--compare-boundary"], "--compare-* are for 'swim', not 'fluid'"),
         (["bench", "optimize", "--creature", "nessie"], "unknown creature 'nessie'"),
     ],

@@ -31,7 +31,7 @@ def _cmd_bench(args) -> int:
                       compare_advection=args.compare_advection,
                       compare_boundary=args.compare_boundary,
                       compare_start=args.compare_start,
-                      creature=args.creature)  # fmt: skip
+                      creature=args.creature, seeds=args.seeds)  # fmt: skip
     except (ValueError, KeyError) as err:  # KeyError: an unknown creature
         return _fail("bench", err, status=2)
     return 0
@@ -428,6 +428,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument(
         "--creature", metavar="NAME", help="optimize: the creature to time (default eel2d)"
     )
+    bench.add_argument("--seeds", type=int, metavar="K",
+                       help="optimize: default searches run whole, seeds 1..K (default 3; 0: "
+                       "time the samples only)")  # fmt: skip
     bench.set_defaults(run=_cmd_bench)
 
     creatures = commands.add_parser("creatures", help="list the creature library")

@@ -19,6 +19,7 @@ def run_benchmark(
     compare_boundary: bool = False,
     compare_start: bool = False,
     creature: str | None = None,
+    seeds: int | None = None,
 ) -> list[dict]:
     """Run one benchmark on one core and print its table.
 
@@ -35,6 +36,8 @@ def run_benchmark(
             today's (``swim.compare_start``).
         creature: optimize only: the creature whose optimization is timed
             (default eel2d).
+        seeds: optimize only: default searches run whole, one per seed (default 3;
+            0 times the samples alone).
     Returns:
         one dict per row of the table.
     """
@@ -46,8 +49,10 @@ def run_benchmark(
               "compare_boundary": compare_boundary, "compare_start": compare_start}  # fmt: skip
     if any(chosen.values()) and what != "swim":
         raise ValueError(f"--profile and --compare-* are for 'swim', not {what!r}")
-    if creature is not None and what != "optimize":
-        raise ValueError(f"--creature is for 'optimize', not {what!r}")
+    if (creature is not None or seeds is not None) and what != "optimize":
+        raise ValueError(f"--creature and --seeds are for 'optimize', not {what!r}")
+    if seeds is not None and seeds < 0:
+        raise ValueError(f"seeds must be at least 0, got {seeds}")
     from aquagait.bench import fluid, optimize, render, swim
 
     if what != "optimize":  # the optimize benchmark measures two worker processes
@@ -55,8 +60,8 @@ def run_benchmark(
     if any(chosen.values()):
         return [row for name, on in chosen.items() if on
                 for row in getattr(swim, name)(repeats, out)]  # fmt: skip
-    if creature is not None:
-        return optimize.run(repeats=repeats, out=out, creature=creature)
+    if what == "optimize":
+        return optimize.run(repeats, out, creature or "eel2d", 3 if seeds is None else seeds)
     modules = {"fluid": fluid, "swim": swim, "optimize": optimize, "render": render}
     return modules[what].run(repeats=repeats, out=out)
 
