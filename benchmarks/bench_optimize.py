@@ -1,9 +1,10 @@
 """Optimization benchmark: ``python benchmarks/bench_optimize.py`` is ``aquagait bench optimize``.
 
-Candidate gaits evaluated per minute for eel2d at 64x32 and 128x64 with 1 and
-2 worker processes, the scaling ratio, and the projected time of the paper's
-whole 2D eel optimization (16 x 100 samples at 128x64; target: 30 minutes on
-2 cores).
+Samples a minute for a creature (eel2d by default) on its target and coarse
+grids with 1 and 2 worker processes, then the default search run whole once
+per seed (samples to its stop, minutes) beside the paper's budget (16 or 31 x
+100 samples) projected at the two-worker rate of the same run
+(``aquagait.bench.optimize``).
 """
 
 import argparse
@@ -13,4 +14,7 @@ from aquagait.bench import run_benchmark
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=16)
-    run_benchmark("optimize", repeats=parser.parse_args().repeats)
+    parser.add_argument("--creature", default="eel2d")
+    parser.add_argument("--seeds", type=int, default=3)
+    args = parser.parse_args()
+    run_benchmark("optimize", repeats=args.repeats, creature=args.creature, seeds=args.seeds)
