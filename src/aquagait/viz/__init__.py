@@ -9,7 +9,7 @@ package needs none of them.
 """
 
 from aquagait.viz.compare import plot_displacement, render_side_by_side
-from aquagait.viz.convergence import plot_convergence
+from aquagait.viz.convergence import plot_budgets, plot_convergence
 from aquagait.viz.plane import Look
 from aquagait.viz.swim import contact_sheet, render_swim, swim_frames
 from aquagait.viz.volume import Look3D
@@ -19,6 +19,7 @@ __all__ = [
     "Look",
     "Look3D",
     "contact_sheet",
+    "plot_budgets",
     "plot_convergence",
     "plot_displacement",
     "plot_voxels",

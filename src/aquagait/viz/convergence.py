@@ -19,7 +19,7 @@ def read_log(path) -> dict[str, list[float]]:
         rows = [row for row in csv.DictReader(handle) if row.get("generation", "").isdigit()]
     if not rows:
         raise ValueError(f"{path} has no generations logged; is it an optimization.csv?")
-    columns = ("generation", "best", "mean", "sigma")
+    columns = ("generation", "evaluations", "best", "mean", "sigma")
     return {key: [_number(row[key]) for row in rows] for key in columns}
 
 
@@ -48,6 +48,40 @@ def plot_convergence(log_path, out_path, title: str = "") -> Path:
     bottom.plot(log["generation"], log["sigma"], color="C0")
     bottom.set_ylabel("sigma")
     bottom.set_xlabel("generation")
+    fig.tight_layout()
+    out_path = Path(out_path)
+    fig.savefig(out_path, dpi=100)
+    plt.close(fig)
+    return out_path
+
+
+def plot_budgets(runs: dict[str, list], out_path, title: str = "") -> Path:
+    """Best objective so far against samples evaluated, for searches on several budgets.
+
+    Args:
+        runs: ``{label: [optimization.csv, ...]}``, e.g. ``{"default": [...],
+            "paper 16 x 100": [...]}``: one line per run, one colour per label.
+        out_path: the PNG to write.
+        title: a heading (e.g. the creature's name).
+    Returns:
+        the path written.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(figsize=(6.4, 4))
+    for colour, (label, paths) in enumerate(runs.items()):
+        for n, path in enumerate(paths):
+            log = read_log(path)
+            axes.step(log["evaluations"], log["best"], where="post", color=f"C{colour}",
+                      alpha=0.85, label=label if n == 0 else None)  # fmt: skip
+            axes.plot(log["evaluations"][-1], log["best"][-1], "o", color=f"C{colour}")
+    axes.set_xlabel("samples evaluated")
+    axes.set_ylabel("best objective E so far")
+    axes.set_title(title)
+    axes.legend(frameon=False)
     fig.tight_layout()
     out_path = Path(out_path)
     fig.savefig(out_path, dpi=100)
