@@ -1,11 +1,11 @@
 """CMA-ES on pycma's ask/tell, with feasibility, groups and checkpoints (paper §4).
 
 One generation: ask pycma for `popsize` samples (by default CMA-ES's own
-population for the group's size, ``problem.default_popsize``); redraw each infeasible one up
-to `max_resamples` times, checking `feasible` here before anything runs; give
-the ones still infeasible the penalty; evaluate the rest (serially or through
-an executor), placing each value by its sample index; tell pycma; write the
-checkpoint and the log. Groups (paper §4, frog) run one after another, each a
+population for the group's size, `problem.default_popsize`); redraw each
+infeasible one up to `max_resamples` times, checking `feasible` here before
+anything runs; give the ones still infeasible the penalty; evaluate the rest
+(serially or through an executor), placing each value by its sample index;
+tell pycma; write the checkpoint and the log. Groups (paper §4, frog) run one after another, each a
 fresh CMA-ES over its coordinates, started from the best point so far.
 
 When it stops. A group ends at the first of: its `Settings.generations`
