@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aquagait.viz.style import save_plot
 from aquagait.viz.swim import swim_frames
 
 
@@ -33,11 +34,7 @@ def plot_displacement(runs: dict, path, title: str = "") -> Path:
     axis.set_ylabel("root displacement along x [m]")
     axis.set_title(title)
     axis.legend(frameon=False)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save_plot(fig, path)
 
 
 def render_side_by_side(runs: dict, model, path, progress=None) -> Path:

@@ -12,6 +12,8 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
+from aquagait.viz.style import save_plot
+
 
 def read_log(path) -> dict[str, list[float]]:
     """The per-generation columns of an ``optimization.csv``, as floats."""
@@ -48,11 +50,7 @@ def plot_convergence(log_path, out_path, title: str = "") -> Path:
     bottom.plot(log["generation"], log["sigma"], color="C0")
     bottom.set_ylabel("sigma")
     bottom.set_xlabel("generation")
-    fig.tight_layout()
-    out_path = Path(out_path)
-    fig.savefig(out_path, dpi=100)
-    plt.close(fig)
-    return out_path
+    return save_plot(fig, out_path)
 
 
 def plot_budgets(runs: dict[str, list], out_path, title: str = "") -> Path:
@@ -82,11 +80,7 @@ def plot_budgets(runs: dict[str, list], out_path, title: str = "") -> Path:
     axes.set_ylabel("best objective E so far")
     axes.set_title(title)
     axes.legend(frameon=False)
-    fig.tight_layout()
-    out_path = Path(out_path)
-    fig.savefig(out_path, dpi=100)
-    plt.close(fig)
-    return out_path
+    return save_plot(fig, out_path)
 
 
 def _number(text: str) -> float:
