@@ -14,8 +14,9 @@ from aquagait.bench import BENCHMARKS
 from aquagait.objectives import MANEUVERS
 from aquagait.sim import FLUIDS
 
-CONVERGED = "converged"
-"""``compare --optimize`` with no count: each search runs until it has converged."""
+CONVERGED = math.inf
+"""``compare --optimize`` with no count: no generation count, each search runs until it has
+converged (not a string: argparse would pass it through ``int``)."""
 NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF file"
 GAIT_HELP = (
     "a gait.json, or the name of a gait the creature ships (hand-set, optimized, turn-left, "
@@ -272,7 +273,7 @@ def _cmd_compare(args) -> int:
     given = {"--resume": args.resume, "--start": args.start, "--popsize": args.popsize}
     alone = [flag for flag, value in given.items() if value]
     if alone and args.optimize is None:
-        return _fail("compare", f"{', '.join(alone)}: only with --optimize G", status=2)
+        return _fail("compare", f"{', '.join(alone)}: only with --optimize [G]", status=2)
     try:
         name = find_creature(args.name).name
         out = output_directory(args.out or Path("runs") / f"{name}-compare")

@@ -106,7 +106,16 @@ def test_a_trained_gait_that_outgrows_the_grid_is_one_line_and_status_1(swimmer,
 def test_search_flags_without_optimize_are_refused(swimmer, tmp_path, capsys):
     argv = ["compare", str(swimmer), "--resume", "--start", "x.json", "--out", str(tmp_path)]
     assert main(argv) == 2
-    assert "--resume, --start: only with --optimize G" in capsys.readouterr().err
+    assert "--resume, --start: only with --optimize [G]" in capsys.readouterr().err
+
+
+def test_compare_optimize_without_a_count_searches_until_converged():
+    from aquagait.cli import CONVERGED, build_parser
+
+    parser = build_parser()
+    assert parser.parse_args(["compare", "eel2d", "--optimize"]).optimize == CONVERGED
+    assert parser.parse_args(["compare", "eel2d", "--optimize", "8"]).optimize == 8
+    assert parser.parse_args(["compare", "eel2d"]).optimize is None
 
 
 def test_a_path_that_is_not_there_is_one_line_and_status_2(tmp_path, capsys):
