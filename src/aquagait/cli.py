@@ -30,6 +30,7 @@ def _cmd_bench(args) -> int:
     try:
         run_benchmark(args.what, repeats=args.repeats, out=sys.stdout, profile=args.profile,
                       compare_advection=args.compare_advection,
+                      compare_precision=args.compare_precision,
                       compare_boundary=args.compare_boundary,
                       compare_start=args.compare_start,
                       creature=args.creature, seeds=args.seeds)  # fmt: skip
@@ -416,6 +417,10 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument(
         "--compare-advection", action="store_true", help="swim: old and new advection, one run"
     )
+    bench.add_argument(
+        "--compare-precision", action="store_true",
+        help="swim: float64 and float32 face velocities, one run",
+    )  # fmt: skip
     bench.add_argument(
         "--compare-boundary",
         action="store_true",

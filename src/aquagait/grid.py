@@ -98,9 +98,9 @@ class Grid:
         shape[axis] += 1
         return tuple(shape)
 
-    def zeros_velocity(self) -> Velocity:
-        """Still fluid: a zero velocity field."""
-        return tuple(np.zeros(self.face_shape(a)) for a in range(self.dim))
+    def zeros_velocity(self, dtype=np.float64) -> Velocity:
+        """Still fluid: a zero velocity field (float64, or ``dtype``)."""
+        return tuple(np.zeros(self.face_shape(a), dtype=dtype) for a in range(self.dim))
 
     def zeros_cells(self, dtype=np.float64) -> np.ndarray:
         """A zero cell-centred field, shape ``shape``."""

@@ -291,6 +291,26 @@ def test_matches_scipy_reference_in_a_rough_flow(shape):
         np.testing.assert_allclose(limited, np.clip(unlimited, lo, hi), atol=1e-12)
 
 
+@pytest.mark.parametrize("scheme", SCHEMES)
+@pytest.mark.parametrize("shape", [(11, 9), (9, 7, 6)])
+def test_float32_fields_are_advected_in_float32_to_its_round_off(scheme, shape):
+    # The same kernels, compiled for float32 fields (the departure points stay
+    # float64): each result is a blend of at most 2^d samples of phi~, itself
+    # a blend of rounded inputs, so it may differ from float64's by a few ulps
+    # of the field's largest value; 16 ulps (2^-20 of the range) bounds it.
+    grid = Grid(shape, 0.1)
+    carrier = _random_velocity(grid, 7)
+    dt = grid.cfl_dt(carrier, cfl=2.5)
+    single = tuple(c.astype(np.float32) for c in carrier)
+    phi = np.random.default_rng(9).normal(size=grid.shape)
+    want = scheme(grid, tuple(c.astype(float) for c in single), (phi.astype(np.float32),), dt)
+    got = scheme(grid, single, (phi.astype(np.float32),), dt)
+    assert got[0].dtype == np.float32 and want[0].dtype == np.float64
+    np.testing.assert_allclose(got[0], want[0], atol=2.0**-20 * np.abs(phi).max())
+    mixed = scheme(grid, single, (phi,), dt)  # a float64 field: all of it in float64
+    assert mixed[0].dtype == np.float64
+
+
 @pytest.mark.parametrize("shape", [(11, 9), (9, 7, 6)])
 @pytest.mark.parametrize("limit", [True, False])
 def test_branch_free_kernels_give_the_previous_numbers_bit_for_bit(shape, limit):

@@ -16,6 +16,7 @@ def run_benchmark(
     out: TextIO = sys.stdout,
     profile: bool = False,
     compare_advection: bool = False,
+    compare_precision: bool = False,
     compare_boundary: bool = False,
     compare_start: bool = False,
     creature: str | None = None,
@@ -30,6 +31,8 @@ def run_benchmark(
         profile: swim only: time per phase of the coupled step (``swim.profile``).
         compare_advection: swim only: each advection scheme beside the other
             (``swim.compare_advection``).
+        compare_precision: swim only: float64 beside float32 face velocities
+            (``swim.compare_precision``).
         compare_boundary: swim only: the staircase beside sub-cell boundaries
             (``swim.compare_boundary``).
         compare_start: swim only: the step as the 3D-speed work found it beside
@@ -46,6 +49,7 @@ def run_benchmark(
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
     chosen = {"profile": profile, "compare_advection": compare_advection,
+              "compare_precision": compare_precision,
               "compare_boundary": compare_boundary, "compare_start": compare_start}  # fmt: skip
     if any(chosen.values()) and what != "swim":
         raise ValueError(f"--profile and --compare-* are for 'swim', not {what!r}")

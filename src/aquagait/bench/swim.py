@@ -10,7 +10,8 @@ has. The target is 30x faster than the paper.
 
 ``--profile`` splits the coupled step into its phases (``profile``), and
 ``--compare-advection`` times the same frames with each advection scheme
-beside the other (``compare_advection``).
+beside the other (``compare_advection``), ``--compare-precision`` with
+float64 and float32 face velocities (``compare_precision``).
 """
 
 from __future__ import annotations
@@ -212,6 +213,39 @@ def compare_advection(repeats: int, out: TextIO) -> list[dict]:
         for label, key in (("advect ms", "advect"), ("step ms", "step")):
             _side_by_side(out, name, row["grid"], label, old[key], new[key], old[key] / new[key])
         print(f"{'':<21}{'same qpos':>14}{'yes' if row['same_qpos'] else 'no':>20}", file=out)
+        out.flush()
+    return rows
+
+
+def compare_precision(repeats: int, out: TextIO) -> list[dict]:
+    """The coupled step with float64 and float32 face velocities, in one run.
+
+    Each creature swims the same frames once with each precision
+    (``EulerFluid(dtype=...)``), frame about; printed: ms per step of the
+    advection and of the whole step, side by side with their ratio (float64
+    over float32: the speed-up), and how far apart the two swims' roots end
+    [m] against the distance swum.
+
+    Returns:
+        one dict per creature with both precisions' figures.
+    """
+    import numpy as np
+
+    print(f"{'creature':<10}{'grid':>11}{'':>14}{'float64':>10}{'float32':>10}{'ratio':>8}",
+          file=out)  # fmt: skip
+    rows = []
+    for name in PAPER_SECONDS_PER_FRAME:
+        fluids = {"float64": dict(dtype=np.float64), "float32": dict(dtype=np.float32)}
+        double, single = _interleaved_swims(name, fluids, repeats).values()
+        dim = 2 if len(double["grid"].split("x")) == 2 else 3
+        apart = float(np.linalg.norm(double["qpos"][:dim] - single["qpos"][:dim]))
+        row = dict(creature=name, grid=double["grid"], float64=double, float32=single,
+                   apart=apart)  # fmt: skip
+        rows.append(row)
+        for label, key in (("advect ms", "advect"), ("step ms", "step")):
+            _side_by_side(out, name, row["grid"], label, double[key], single[key],
+                          double[key] / single[key])  # fmt: skip
+        print(f"{'':<21}{'roots apart':>14}{apart:>20.2e} m", file=out)
         out.flush()
     return rows
 

@@ -14,6 +14,12 @@ A field's staggering follows from its shape: ``grid.shape`` is cell-centred,
 each field is extended by its outermost samples (zero gradient). Schemes share
 one signature, ``scheme(grid, carrier, fields, dt) -> tuple``, so a caller picks
 one by passing the function (``advect_velocity(..., scheme=semi_lagrangian)``).
+
+Precision: float32 fields (``EulerFluid(dtype=np.float32)``) are advected in
+float32, by the same kernels compiled for that type, when the carrier and
+every field are float32; anything else is advected in float64. Departure
+points are float64 either way (in float32 the trace was slower and less
+exact: ``benchmarks/precision.py``).
 """
 
 from __future__ import annotations
@@ -45,7 +51,8 @@ def semi_lagrangian(
             component (``grid.face_shape(a)``) [any unit].
         dt: time step [s]; a negative step traces forward (used by BFECC).
     Returns:
-        new float64 arrays, one per field, same shapes and units.
+        new arrays, one per field, same shapes and units; float32 when the
+        carrier and every field are, else float64.
     Raises:
         ValueError: malformed carrier or field, non-finite ``dt``;
             ``grid.CFLError`` when ``|dt|`` carries fluid beyond the hard CFL limit.
@@ -57,7 +64,7 @@ def semi_lagrangian(
     for shape, members in _by_shape(fields).items():  # one trace per staggering
         ahead, _ = _trace(grid, carrier, shape, dt, both=False)
         for n in members:
-            out[n] = _run("gather", None, fields[n], *ahead, np.empty(shape))
+            out[n] = _run("gather", None, fields[n], *ahead, np.empty(shape, fields[n].dtype))
     return tuple(out)
 
 
@@ -77,7 +84,8 @@ def bfecc(
         grid, carrier, fields, dt: as for ``semi_lagrangian``.
         limit: apply the extremum limiter (turn off only to study the scheme).
     Returns:
-        new float64 arrays, one per field, same shapes and units.
+        new arrays, one per field, same shapes, units and precision as for
+        ``semi_lagrangian``.
     Raises:
         ValueError, grid.CFLError: as for ``semi_lagrangian``.
     """
@@ -105,12 +113,12 @@ def _bfecc(grid, carrier, fields, dt, limit, branching):
     out = [None] * len(fields)
     for shape, members in _by_shape(fields).items():
         ahead, back = _trace(grid, carrier, shape, dt, both=True, branching=branching)
-        phi1, phi_tilde = _scratch(shape, 2, first=2 * len(shape))
+        phi1, phi_tilde = _scratch(shape, 2, "fields", fields[members[0]].dtype)
         for n in members:
             phi = fields[n]
             _run("gather", branching, phi, *ahead, phi1)
             _run("compensate", branching, phi, phi1, *back, phi_tilde)
-            final = np.empty(shape)
+            final = np.empty(shape, phi.dtype)
             if limit:
                 out[n] = _run("limited_gather", branching, phi_tilde, phi, *ahead, final)
             else:
@@ -142,7 +150,7 @@ def _trace(grid: Grid, carrier: Velocity, shape: tuple[int, ...], dt: float, bot
         coordinates, one per axis; ``back`` is ``None`` unless ``both``.
     """
     offsets = [0.0 if n == m + 1 else 0.5 for n, m in zip(shape, grid.shape, strict=True)]
-    points = _scratch(shape, 2 * len(shape) if both else len(shape))
+    points = _scratch(shape, 2 * len(shape) if both else len(shape), "points", np.float64)
     ahead, back = tuple(points[: len(shape)]), tuple(points[len(shape) :]) or None
     skip = (None,) * len(shape)
     _run("departure", branching, *carrier, *offsets, dt / grid.cell_size, *ahead, *(back or skip))
@@ -160,18 +168,20 @@ def _by_shape(fields) -> dict[tuple[int, ...], list[int]]:
 _workspace = threading.local()
 
 
-def _scratch(shape: tuple[int, ...], count: int, first: int = 0) -> list[np.ndarray]:
-    """Scratch arrays ``first .. first+count-1`` of ``shape``, reused between calls.
+def _scratch(shape: tuple[int, ...], count: int, role: str, dtype) -> list[np.ndarray]:
+    """``count`` scratch arrays of ``shape`` and ``dtype`` for ``role`` ("points" or
+    "fields"), reused between calls.
 
     Fresh memory costs a page fault per 4 KiB on first touch, which made up a
-    fifth of a BFECC step; this thread's scratch buffer is kept and grown instead.
+    fifth of a BFECC step; this thread's scratch buffers (one per role and
+    dtype, so that points and fields never overlap) are kept and grown instead.
     """
-    size = int(np.prod(shape))
-    need = (first + count) * size
-    buffer = getattr(_workspace, "buffer", None)
-    if buffer is None or buffer.size < need:
-        buffer = _workspace.buffer = np.empty(max(need, 8 * size))
-    return [buffer[n * size : (n + 1) * size].reshape(shape) for n in range(first, first + count)]
+    size, dtype = int(np.prod(shape)), np.dtype(dtype)
+    buffers = _workspace.__dict__.setdefault("buffers", {})
+    buffer = buffers.get((role, dtype))
+    if buffer is None or buffer.size < count * size:
+        buffer = buffers[(role, dtype)] = np.empty(max(count, 6) * size, dtype)
+    return [buffer[n * size : (n + 1) * size].reshape(shape) for n in range(count)]
 
 
 def _run(kernel: str, branching, *args):
@@ -184,7 +194,8 @@ def _run(kernel: str, branching, *args):
 
 
 def _checked(grid: Grid, carrier: Velocity, fields, dt: float):
-    """Validate the inputs; return them as float64 C arrays."""
+    """Validate the inputs; return them as C arrays of one precision: float32 if all of
+    them are, else float64."""
     grid.check_velocity(carrier, "carrier")
     if isinstance(fields, np.ndarray):
         raise ValueError("fields must be a sequence of arrays; wrap a single field as (phi,)")
@@ -198,5 +209,7 @@ def _checked(grid: Grid, carrier: Velocity, fields, dt: float):
             )
     if dt != 0:
         grid.check_dt(carrier, abs(dt))
-    as_f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
-    return tuple(map(as_f64, carrier)), tuple(map(as_f64, fields))
+    single = all(np.asarray(a).dtype == np.float32 for a in (*carrier, *fields))
+    dtype = np.float32 if single else np.float64
+    as_dtype = lambda a: np.ascontiguousarray(a, dtype=dtype)  # noqa: E731
+    return tuple(map(as_dtype, carrier)), tuple(map(as_dtype, fields))

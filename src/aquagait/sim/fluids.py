@@ -34,6 +34,8 @@ from dataclasses import dataclass, field, replace
 from numbers import Real
 from typing import TYPE_CHECKING, ClassVar, Protocol
 
+import numpy as np
+
 from aquagait.body.subcell import voxelize_subcell
 from aquagait.body.surface import Surface, body_surface
 from aquagait.body.voxelize import Voxels
@@ -195,6 +197,10 @@ class EulerFluid:
             first-order time-step error (README, "Sub-cell boundaries"; the
             staircase's is under 1%). Gaits are ranked, and the library's
             figures measured, at this step.
+        dtype: the precision of the fluid's face velocities between steps and in
+            advection, ``np.float64`` or ``np.float32``; the coupled pressure
+            solve runs in float64 either way (``benchmarks/precision.py`` and
+            README, "Single precision", for what float32 buys).
         area: a coupled face's area A [m^2], set by ``bind``.
     """
 
@@ -206,7 +212,14 @@ class EulerFluid:
     clearance: float = CLEARANCE
     cfl: float = 1.0
     max_dt: float = 1 / 90
+    dtype: type = np.float64
     area: float | None = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self):
+        if np.dtype(self.dtype) not in PRECISIONS:
+            raise ValueError(
+                f"EulerFluid(dtype=...) must be np.float64 or np.float32, got {self.dtype!r}"
+            )
 
     def bind(self, model: Model, grid: Grid | None) -> EulerFluid:
         if grid is None:
@@ -223,7 +236,7 @@ class EulerFluid:
                 f"the body at the given qpos is less than {self.clearance:g} cells from a wall "
                 "of the grid: start it nearer the grid's centre"
             )
-        velocity = grid.zeros_velocity()
+        velocity = grid.zeros_velocity(self.dtype)
         voxels = self._voxels(scene, grid, state.qpos)
         rigid_faces_(grid, velocity, voxels, scene.dynamics.link_motion(state.qpos, state.qvel))
         return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
@@ -238,8 +251,9 @@ class EulerFluid:
         qvel_star = state.qvel + dt * predict_body(scene, state, dt, tau, damping)
         solved = self._coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping)
         rigid_faces_(grid, solved.velocity, voxels, scene.dynamics.link_motion(q, solved.qvel))
+        velocity = tuple(c.astype(self.dtype, copy=False) for c in solved.velocity)
         moved = move_body(scene, state, dt, tau, damping, solved.qvel)
-        moved = replace(moved, velocity=solved.velocity, pressure=solved.pressure)
+        moved = replace(moved, velocity=velocity, pressure=solved.pressure)
         return follow(scene, moved, self.clearance)
 
     def _voxels(self, scene: Scene, grid: Grid, q) -> Voxels:
@@ -280,8 +294,12 @@ class EulerFluid:
             "tolerance": self.tolerance,
             "clearance": self.clearance,
             "cfl": self.cfl,
+            "dtype": np.dtype(self.dtype).name,
         }
 
+
+PRECISIONS = (np.dtype(np.float64), np.dtype(np.float32))
+"""The precisions ``EulerFluid`` keeps its face velocities in."""
 
 FLUIDS = {model.name: model for model in (Vacuum, SimpleFluid, EulerFluid)}
 """The fluid models by name, for ``make_scene(fluid="euler")`` and the command line."""
