@@ -17,6 +17,7 @@ from aquagait.sim import FLUIDS
 CONVERGED = math.inf
 """``compare --optimize`` with no count: no generation count, each search runs until it has
 converged (not a string: argparse would pass it through ``int``)."""
+
 NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF file"
 GAIT_HELP = (
     "a gait.json, or the name of a gait the creature ships (hand-set, optimized, turn-left, "
