@@ -24,7 +24,8 @@ def main() -> None:
     runs = {}
     for entry in args.runs:
         label, _, pattern = entry.partition("=")
-        paths = sorted(Path(d) / "optimization.csv" for d in glob.glob(pattern))
+        paths = sorted(Path(d) / "optimization.csv" for d in glob.glob(pattern)
+                       if (Path(d) / "optimization.csv").is_file())  # fmt: skip
         if not paths:
             parser.error(f"--runs {entry}: no run directories match {pattern!r}")
         runs[label] = paths
