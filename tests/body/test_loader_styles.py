@@ -151,13 +151,14 @@ def test_a_model_with_five_problems_gets_all_five_in_one_message():
     with pytest.raises(ModelError) as err:
         load_model(path)
     expected = [
-        "geom 'head' in body 'head' has no density; add density=\"1000\" (water) [kg/m^3]",
-        "body 'trunk' has an <inertial> element: masses must come from geom densities so they "
-        "match the volume the fluid sees; remove it",
-        "geom 'fin' in body 'tail' sets mass; masses come from volume x density: give "
-        'density="1000" (water) [kg/m^3] instead',
-        "joint 'j1' in link 'trunk' has no limits; the gait needs them: add range=\"lo hi\" "
-        'limited="true" to it (degrees)',
+        "<equality> holds 1 constraint(s) (unnamed); aquagait solves no constraints between "
+        "links: remove it (to move joints together, give them shared gait parameters)",
+        "geom 'head' in body 'head' has density 'heavy'; it must be a number >= 0 [kg/m^3], "
+        'e.g. density="1000" (water)',
+        "geom 'keel' in body 'trunk' is a plane; allowed: capsule, box, sphere, ellipsoid, "
+        "cylinder, mesh",
+        "body 'spacer' has no <geom>; every link needs a shape for the water to push on (an "
+        "<inertial> gives it mass, not a shape): give it a geom",
         "joint 'slider' in link 'tail' is a slide joint; below the root only hinge and ball "
         "joints are allowed: make it a hinge or a ball, or remove it",
     ]

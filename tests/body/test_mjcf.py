@@ -28,11 +28,11 @@ def test_density_is_looked_up_through_nested_default_classes():
     assert load_model(xml).mass == pytest.approx(800 * 0.008)
 
 
-def test_a_class_without_density_anywhere_is_refused():
-    xml = """<mujoco><default><default class="a"><geom type="box"/></default></default>
-      <worldbody><body name="x"><freejoint/><geom class="a" size=".1 .1 .1"/></body></worldbody>
-      </mujoco>"""
-    with pytest.raises(ModelError, match="geom #0 in body 'x' has no density"):
+def test_a_bad_density_through_a_default_class_is_refused():
+    xml = """<mujoco><default><default class="a"><geom type="box" density="-5"/></default>
+      </default><worldbody><body name="x"><freejoint/><geom class="a" size=".1 .1 .1"/></body>
+      </worldbody></mujoco>"""
+    with pytest.raises(ModelError, match="geom #0 in body 'x' has density '-5'; it must be a"):
         check_xml(xml, "<string>")
 
 

@@ -53,6 +53,9 @@ from aquagait.sim.follow import cells_for, check_room, room, widest_box
 THIN_CELLS = 2.0
 """A link should be at least this many cells thick (DESIGN.md §2.8)."""
 
+NEUTRAL = (0.8, 1.25)
+"""A body whose mass is outside these multiples of the water it displaces gets a warning."""
+
 FINEST_REFINE = {2: 32, 3: 8}
 """Most signed-distance samples per cell (per axis) ``resolving_shape`` bakes, 2D and 3D."""
 
@@ -132,8 +135,10 @@ def run_check(setup: CheckSetup) -> CheckReport:
     """Measure the creature: links, DOFs, gait, grid, clearance; warn about thin links.
 
     ``numbers`` holds: ``creature``, ``description``, ``source``, ``dim``,
-    ``depth`` [m] (2D), ``mass`` [kg], ``body_length`` [m], ``links`` (per
-    link: ``name``, ``mass`` [kg], ``volume`` [m^3], ``density`` [kg/m^3],
+    ``depth`` [m] (2D), ``mass`` [kg], ``displaced`` (the mass of the water the
+    body displaces) [kg], ``body_length`` [m], ``links`` (per link: ``name``,
+    ``mass`` [kg], ``volume`` [m^3], ``density`` [kg/m^3], ``buoyancy`` (its
+    mass over that of the water it displaces),
     ``size`` (3,) [m], ``thickness`` [m], ``thickness_cells``,
     ``solid_cells``, ``voxel_fraction``: the volume of its staircase cells over
     its volume, ``seen_fraction``: the volume the sub-cell faces see over its
@@ -147,7 +152,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
     voxels = voxelize(setup.scene.shape, grid, link_pos, link_rot)  # the staircase's cells
     fractions = voxelize_subcell(setup.scene.shape, grid, link_pos, link_rot)  # what the fluid sees
     shape = resolving_shape(model, setup.scene.shape)
-    links = _links(creature, shape, voxels, fractions)
+    links = _links(creature, shape, voxels, fractions, setup.scene.density)
     numbers = {
         "creature": creature.name,
         "description": creature.description,
@@ -156,6 +161,8 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "dim": model.dim,
         "depth": model.depth,
         "mass": float(model.mass),
+        "displaced": sum(r["volume"] for r in links) * setup.scene.density,
+        "water_density": setup.scene.density,
         "body_length": float(model.body_length),
         "links": links,
         "volume_from": "geoms",
@@ -203,9 +210,11 @@ def resolving_shape(model, shape: BodyShape) -> BodyShape:
         return shape
 
 
-def _links(creature: Creature, shape: BodyShape, voxels: Voxels, fractions: Voxels) -> list[dict]:
-    """Per link: mass, volume, density, box size, thickness, solid cells and what they hold,
-    and the share of its volume the fluid sees through the sub-cell faces."""
+def _links(creature: Creature, shape: BodyShape, voxels: Voxels, fractions: Voxels,
+           water: float) -> list[dict]:  # fmt: skip
+    """Per link: mass, volume, density and its ratio to ``water``'s [kg/m^3], box size,
+    thickness, solid cells and what they hold, and the share of its volume the fluid
+    sees through the sub-cell faces."""
     model, h = creature.model, shape.cell_size
     volume = link_volumes(model)
     thickness = link_thickness(shape)
@@ -220,6 +229,7 @@ def _links(creature: Creature, shape: BodyShape, voxels: Voxels, fractions: Voxe
             "mass": mass,
             "volume": v,
             "density": mass / v if v > 0 else None,
+            "buoyancy": mass / (v * water) if v > 0 else None,
             "size": (shape.bounds[k, 1] - shape.bounds[k, 0]).tolist(),
             "thickness": float(thickness[k]),
             "thickness_accuracy": shape.spacing,
@@ -333,6 +343,15 @@ def _warnings(numbers: dict, shape: BodyShape) -> list[str]:
     for k, row in enumerate(numbers["links"]):
         if row["volume"] > 0 and row["thickness"] < THIN_CELLS * h - s:
             out.append(_thin_warning(row, shape, k, numbers["grid"]))
+    ratio = numbers["mass"] / numbers["displaced"]
+    if not NEUTRAL[0] <= ratio <= NEUTRAL[1]:
+        out.append(
+            f"the body's mass, {numbers['mass']:.4g} kg, is {ratio:.2f}x that of the "
+            f"{numbers['displaced']:.4g} kg of water it displaces: the water here has no gravity, "
+            "so the body neither sinks nor floats, but its mass sets how far the water's push "
+            f"moves it ({'a light body is moved more' if ratio < 1 else 'a heavy one coasts'}"
+            "); the library's creatures have water's density"
+        )
     c = numbers["clearance"]
     if not c["holds"]:
         out.append(f"the default grid is too small: {c['error']}")

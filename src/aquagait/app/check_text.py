@@ -44,19 +44,21 @@ def _heading(n: dict) -> str:
 
 def _link_table(n: dict) -> str:
     h = n["grid"]["cell_size"]
-    header = ("link", "mass [kg]", "volume [m^3]", "density [kg/m^3]", "size [mm]",
+    header = ("link", "mass [kg]", "volume [m^3]", "density [kg/m^3]", "x water", "size [mm]",
               "thickness [mm]", f"[cells of {h * 1000:g} mm]", "solid cells",
               "cells/volume", "fluid sees")  # fmt: skip
     rows = [header]
     for r in n["links"]:
         rows.append((
             r["name"], f"{r['mass']:.4g}", f"{r['volume']:.4g}", _maybe(r["density"], ".4g"),
+            _maybe(r.get("buoyancy"), ".2f"),
             " x ".join(f"{side * 1000:.3g}" for side in r["size"]),
             f"{r['thickness'] * 1000:.3g}", f"{r['thickness_cells']:.2f}",
             str(r["solid_cells"]), _maybe(r["voxel_fraction"], ".0%"),
             _maybe(r.get("seen_fraction"), ".0%"),
         ))  # fmt: skip
-    lines = ["links (volume from the geoms' shapes; density = mass / volume; solid cells: the "
+    lines = ["links (volume from the geoms' shapes; density = mass / volume; x water: mass over "
+             "that of the water displaced; solid cells: the "
              "staircase's at the reference pose on the default grid; fluid sees: the share of "
              "the volume the sub-cell faces see)", _table(rows)]  # fmt: skip
     t = n["thinnest"]

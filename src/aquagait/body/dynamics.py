@@ -67,7 +67,10 @@ class CompiledFacts:
 
     Per link (nb = number of links, world excluded): ``link_names``, ``parent``
     (link index of the parent, -1 for the world), ``link_mass`` [kg],
-    ``link_pos`` (nb, 3) and ``link_rot`` (nb, 3, 3) world frames [m].
+    ``link_pos`` (nb, 3) and ``link_rot`` (nb, 3, 3) world frames [m];
+    ``link_inertia`` (nb, 3) principal moments [kg m^2] about the centre of
+    mass ``link_ipos`` (nb, 3) [m], in axes ``link_iquat`` (nb, 4) (w, x, y,
+    z), both in the link's own frame, as MuJoCo computed them.
     Per joint (nj): ``joint_names``, ``joint_kind`` ('free', 'ball', 'slide',
     'hinge'), ``joint_link``, ``joint_qpos``, ``joint_dof`` (addresses),
     ``joint_axis`` (nj, 3) world axis, ``joint_limited``, ``joint_range``
@@ -76,7 +79,8 @@ class CompiledFacts:
     ``geom_link``, ``geom_size`` (ng, 3), ``geom_pos`` (ng, 3), ``geom_rot``
     (ng, 3, 3) world frames, ``geom_vertices`` (list of (nv_i, 3) world mesh
     vertices or None), ``geom_box`` (ng, 2, 3) world axis-aligned bounds [m],
-    ``geom_rgba`` (ng, 4) colour in [0, 1] (its material's where the geom sets none).
+    ``geom_rgba`` (ng, 4) colour in [0, 1] (its material's where the geom sets none),
+    ``geom_group`` (ng,) MuJoCo's visibility group (0-2 shown by its viewer).
     ``numeric``: the MJCF ``<custom><numeric>`` entries; ``qpos0`` (nq,); ``nv``.
     """
 
@@ -85,6 +89,9 @@ class CompiledFacts:
     link_mass: np.ndarray
     link_pos: np.ndarray
     link_rot: np.ndarray
+    link_inertia: np.ndarray
+    link_ipos: np.ndarray
+    link_iquat: np.ndarray
     joint_names: tuple[str, ...]
     joint_kind: tuple[str, ...]
     joint_link: np.ndarray
@@ -103,6 +110,7 @@ class CompiledFacts:
     geom_vertices: tuple
     geom_box: np.ndarray
     geom_rgba: np.ndarray
+    geom_group: np.ndarray
     numeric: dict
     qpos0: np.ndarray
     nv: int
@@ -141,6 +149,9 @@ def describe(mj) -> CompiledFacts:
         link_mass=mj.body_mass[1:].copy(),
         link_pos=data.xpos[1:].copy(),
         link_rot=data.xmat[1:].reshape(-1, 3, 3).copy(),
+        link_inertia=mj.body_inertia[1:].copy(),
+        link_ipos=mj.body_ipos[1:].copy(),
+        link_iquat=mj.body_iquat[1:].copy(),
         joint_names=_names(mj, mujoco.mjtObj.mjOBJ_JOINT, mj.njnt),
         joint_kind=tuple(JOINT_KINDS[int(t)] for t in mj.jnt_type),
         joint_link=mj.jnt_bodyid - 1,
@@ -159,6 +170,7 @@ def describe(mj) -> CompiledFacts:
         geom_vertices=tuple(vertices),
         geom_box=np.stack([world_centre - world_half, world_centre + world_half], axis=1),
         geom_rgba=_geom_rgba(mj),
+        geom_group=mj.geom_group.copy(),
         numeric=numeric,
         qpos0=mj.qpos0.copy(),
         nv=mj.nv,

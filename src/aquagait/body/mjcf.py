@@ -20,9 +20,13 @@ only describe scenery; so the text is read here first (``prepare_mjcf``):
    Geom attributes for contacts or looks (``contype``, ``rgba``) and sites
    are harmless and kept without a note.
 3. List every problem the text shows, each with its fix (``text_problems``),
-   and neutralize it in the copy given to MuJoCo (a density of 1000 for a bad
-   one, a placeholder mass for a link left without geoms) so the checks on
-   the compiled model can still run and all problems come out at once.
+   and neutralize it in the copy given to MuJoCo (a density of 1000 or a mass
+   of 1 for a bad one, a placeholder mass for a link left without geoms) so
+   the checks on the compiled model can still run and all problems come out
+   at once. Masses are MuJoCo's to compute (geom ``density`` or ``mass``,
+   ``<inertial>``); only values MuJoCo would misread are problems here. The
+   ``<position>`` servos' targets are read first (``servo_ranges``): they
+   bound the gait of a joint that has no range.
 4. Serialize the cleaned tree for MuJoCo with the asset directories
    (``meshdir``, ``texturedir``, ``assetdir``) made absolute, so mesh files
    resolve as they would from the file itself.
@@ -106,6 +110,8 @@ class Prepared:
         angle: 'degree' or 'radian', the unit of the model's joint ranges.
         origin: for each line of ``xml`` that opens an element, the (file, line)
             it came from; used to point MuJoCo's own errors back at the file.
+        servos: joint name -> (lo, hi), the targets its ``<position>`` actuator
+            takes [rad or m] (``servo_ranges``), read before actuators are set aside.
     """
 
     xml: str
@@ -113,6 +119,7 @@ class Prepared:
     problems: list[str]
     angle: str
     origin: dict = field(default_factory=dict)
+    servos: dict = field(default_factory=dict)
 
     def compile_error(self, err: Exception) -> str:
         """MuJoCo's compiler message as one problem, its line numbers those of the files."""
@@ -122,6 +129,14 @@ class Prepared:
             return f"line {line} of {file}" if file else "line ?"
 
         reason = re.sub(r"line (\d+)", back, str(err).strip())
+        massless = re.search(r"mass and inertia of moving bodies.*Element name '([^']*)'", reason,
+                             re.S)  # fmt: skip
+        if massless:
+            return (
+                f"link {massless.group(1)!r} has no mass (its geoms all have mass 0 or density 0"
+                ", or its <inertial> none): give a geom a density or a mass; MuJoCo says: "
+                + re.sub(r"\s*\n\s*", "; ", reason)
+            )
         return "MuJoCo cannot compile it: " + re.sub(r"\s*\n\s*", "; ", reason)
 
 
@@ -147,13 +162,14 @@ def prepare_mjcf(text: str, path: Path | None, source: str) -> Prepared:
     for extra in more:  # MuJoCo reads several (a scene file's and the model's) as one
         worldbody.extend(list(extra))
         root.remove(extra)
+    servos = servo_ranges(root)
     notes = set_aside(root)
     problems = text_problems(root)
     if path is not None:
         _absolute_asset_dirs(root, base, origin)
     xml, lines = _serialize(root, origin)
     angle = ([c.get("angle") for c in root.iter("compiler") if c.get("angle")] or ["degree"])[-1]
-    return Prepared(xml, notes, problems, angle, lines)
+    return Prepared(xml, notes, problems, angle, lines, servos)
 
 
 def check_xml(text: str, source: str) -> None:
@@ -233,25 +249,17 @@ def text_problems(root) -> list[str]:
                 "together, give them shared gait parameters)"
             )
         root.remove(equality)
-    for compiler in root.iter("compiler"):
-        if compiler.get("inertiafromgeom", "").lower() == "false":
-            problems.append(
-                "<compiler inertiafromgeom='false'>: masses must come from geoms; "
-                'remove inertiafromgeom="false"'
-            )
-            del compiler.attrib["inertiafromgeom"]
     classes = _default_classes(root)
     _walk_bodies(root.find("worldbody"), "main", classes, problems)
     return problems
 
 
 def _default_classes(root) -> dict[str, tuple[str | None, dict]]:
-    """Default classes: name -> (parent class name, geom attributes)."""
+    """Default classes: name -> (parent class name, {element tag: its default attributes})."""
     classes: dict[str, tuple[str | None, dict]] = {}
 
     def visit(element, name, parent):
-        geom = element.find("geom")
-        classes[name] = (parent, dict(geom.attrib) if geom is not None else {})
+        classes[name] = (parent, {c.tag: dict(c.attrib) for c in element if c.tag != "default"})
         for child in element.findall("default"):
             visit(child, child.get("class", "main"), name)
 
@@ -261,31 +269,54 @@ def _default_classes(root) -> dict[str, tuple[str | None, dict]]:
     return classes
 
 
-def _default_attr(classes, name, attr):
+def _default_attr(classes, name, attr, tag="geom"):
+    """The attribute ``attr`` of ``<tag>`` in default class ``name`` or its ancestors."""
     while name is not None and name in classes:
-        parent, attrs = classes[name]
-        if attr in attrs:
-            return attrs[attr]
+        parent, defaults = classes[name]
+        if attr in defaults.get(tag, {}):
+            return defaults[tag][attr]
         name = parent
     return None
+
+
+def servo_ranges(root) -> dict[str, tuple[float, float]]:
+    """Joint name -> the range of targets its ``<position>`` servo can be given [rad or m].
+
+    MuJoCo does not convert a ``ctrlrange`` to radians (whatever the compiler's
+    ``angle``), and a servo with gear ``g`` holds its joint at ``ctrl / g``. A
+    servo whose control is not limited bounds nothing and is left out.
+    """
+    classes, found = _default_classes(root), {}
+    for servo in (e for section in root.findall("actuator") for e in section.iter("position")):
+        cls = servo.get("class", "main")
+        get = lambda attr: servo.get(attr) or _default_attr(classes, cls, attr, "position")  # noqa: E731
+        joint, ctrlrange = servo.get("joint"), get("ctrlrange")
+        if not joint or not ctrlrange or (get("ctrllimited") or "auto").lower() == "false":
+            continue
+        try:
+            lo, hi = (float(v) for v in ctrlrange.split())
+            gear = float((get("gear") or "1").split()[0])
+        except ValueError:
+            continue  # MuJoCo's compiler will say what is wrong with it
+        if gear != 0 and hi > lo:
+            found[joint] = tuple(sorted((lo / gear, hi / gear)))
+    return found
 
 
 def _walk_bodies(element, childclass, classes, problems) -> None:
     for body in kids(element, "body"):
         label = f"body {body.get('name')!r}" if body.get("name") else "an unnamed body"
         cls = body.get("childclass", childclass)
-        for inertial in body.findall("inertial"):
-            problems.append(
-                f"{label} has an <inertial> element: masses must come from geom densities "
-                "so they match the volume the fluid sees; remove it"
-            )
-            body.remove(inertial)
         geoms = kids(body, "geom")
         if not geoms:
-            problems.append(f"{label} has no <geom>; every link needs volume (and so mass)")
+            problems.append(
+                f"{label} has no <geom>; every link needs a shape for the water to push on "
+                "(an <inertial> gives it mass, not a shape): give it a geom"
+            )
         for index, geom in enumerate(geoms):
             _check_geom(body, geom, index, label, geom.get("class", cls), classes, problems)
-        if not kids(body, "geom"):  # only a placeholder, for MuJoCo to check the rest
+        if not kids(body, "geom") and not body.findall("inertial"):
+            # only a placeholder, for MuJoCo to check the rest
             ET.SubElement(body, "inertial", pos="0 0 0", mass="1", diaginertia="1 1 1")
         _walk_bodies(body, cls, classes, problems)
 
@@ -297,24 +328,20 @@ def _check_geom(body, geom, index, body_label, cls, classes, problems) -> None:
         problems.append(f"{where} is a {kind}; allowed: {', '.join(GEOM_KINDS)}")
         _remove_from(body, geom)
         return
-    density = geom.get("density") or _default_attr(classes, cls, "density")
-    if geom.get("mass") is not None or _default_attr(classes, cls, "mass") is not None:
-        fix = "remove it" if density else 'give density="1000" (water) [kg/m^3] instead'
-        problems.append(f"{where} sets mass; masses come from volume x density: {fix}")
-        geom.attrib.pop("mass", None)
-        return
-    if density is None:
-        problems.append(f'{where} has no density; add density="1000" (water) [kg/m^3]')
-        return
-    try:
-        value = float(density)
-    except ValueError:
-        problems.append(f'{where} has density {density!r}, not a number; e.g. density="1000"')
-        geom.set("density", "1000")
-        return
-    if not value > 0:
-        problems.append(f"{where} has density {value:g}; it must be > 0 [kg/m^3]")
-        geom.set("density", "1000")
+    for attr, unit in (("density", "kg/m^3"), ("mass", "kg")):
+        value = geom.get(attr) or _default_attr(classes, cls, attr)
+        if value is None:
+            continue
+        try:
+            number = float(value)
+        except ValueError:
+            number = None
+        if number is None or not number >= 0:
+            example = 'density="1000" (water)' if attr == "density" else 'mass="0.01"'
+            problems.append(
+                f"{where} has {attr} {value!r}; it must be a number >= 0 [{unit}], e.g. {example}"
+            )
+            geom.set(attr, "1000" if attr == "density" else "1")  # a placeholder, as above
 
 
 def _remove_from(body, element) -> None:

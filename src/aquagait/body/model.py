@@ -12,12 +12,15 @@ A creature is one tree of links under the world (DESIGN.md §2.2):
   cylinder whose axis is z with half-height ``D/2``, or a mesh whose vertices
   all lie on z = +-D/2 (an extruded convex polygon).
 
-Every other joint is actuated: hinge (1 DOF) or ball (3 DOF), with limits
-(``range``; degrees unless the MJCF says ``<compiler angle="radian"/>``).
-Masses come from geoms only: every geom carries ``density`` > 0 (directly or
-through its default class); ``<inertial>`` and geom ``mass`` are refused so
-that the mass always matches the volume the fluid sees. Gravity is off.
-Allowed geoms: capsule, box, sphere, ellipsoid, cylinder, mesh.
+Every other joint is actuated: hinge (1 DOF) or ball (3 DOF). Its ``range``
+(degrees unless the MJCF says ``<compiler angle="radian"/>``) bounds the
+gait, enforced by MuJoCo or not (``limited="false"``); a joint without one
+takes the targets of its ``<position>`` servo, else +-``DEFAULT_RANGE``, with
+a note. Masses and inertias are MuJoCo's, however the file gives them (geom
+densities, MuJoCo's default being water's; geom ``mass``; ``<inertial>``);
+the water sees each link's geoms, except hidden ones that only carry mass
+(``aquagait.body.reshape``). Gravity is off. Allowed geoms: capsule, box,
+sphere, ellipsoid, cylinder, mesh.
 
 What only describes scenery or another simulator's set-up (floors, lights,
 cameras, materials, actuators, sensors, contacts, tendons, keyframes,
@@ -36,9 +39,13 @@ import numpy as np
 
 from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe
 from aquagait.body.mjcf import ModelError, prepare_mjcf, read_mjcf
+from aquagait.body.reshape import inertia_only, pin_inertia
+from aquagait.body.scenery import listing
 
 DEPTH_NAME = "aquagait_depth"
 ACTUATED_KINDS = ("hinge", "ball")
+DEFAULT_RANGE = np.radians(60.0)
+"""A joint's gait bound [rad] when the model gives it no range and no position servo."""
 
 
 @dataclass(frozen=True)
@@ -48,7 +55,9 @@ class Joint:
     ``kind``: 'free', 'slide', 'hinge' or 'ball'; ``link``: index of the link it
     moves; ``qpos``/``dof``: first index into q (nq,) and qd (nv,); ``nq``/``nv``
     its sizes; ``range``: (lo, hi) [rad or m] for hinges and slides, (0, max
-    rotation angle) for balls, None when unlimited; ``axis``: (3,) world axis at
+    rotation angle) for balls: MuJoCo's limits, or for an actuated joint without
+    them the bounds its gait gets instead (``load_model``); None for an
+    unlimited root joint; ``axis``: (3,) world axis at
     the reference pose (hinge and slide).
     """
 
@@ -155,35 +164,40 @@ def load_model(mjcf: str | Path) -> Model:
     """
     text, path, source = read_mjcf(mjcf)
     prepared = prepare_mjcf(text, path, source)
-    problems = list(prepared.problems)
+    problems, notes = list(prepared.problems), list(prepared.notes)
     try:
         mj = compile_mjcf(xml=prepared.xml)
     except ValueError as err:
         raise ModelError(source, [*problems, prepared.compile_error(err)]) from None
     facts = describe(mj)
-    root, dim, depth = _check_compiled(facts, prepared.angle, problems)
+    root, dim, depth, ranges = _check_compiled(facts, prepared, problems, notes)
     if problems:
         raise ModelError(source, problems)
-    return _build(mj, facts, source, dim, depth, root, tuple(prepared.notes))
+    hidden = inertia_only(facts)
+    if hidden:
+        notes.append(_inertia_only_note(facts, hidden))
+        mj = compile_mjcf(xml=pin_inertia(prepared.xml, facts, hidden))
+        facts = describe(mj)
+    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes))
 
 
 # --- checks on the compiled model ---------------------------------------------
 # Each appends its problems, with their fixes, to ``problems`` and goes on.
 
 
-def _check_compiled(facts: CompiledFacts, angle: str, problems: list[str]):
-    """(root link, dimension, depth); a part that cannot be known is None."""
+def _check_compiled(facts: CompiledFacts, prepared, problems: list[str], notes: list[str]):
+    """(root link, dimension, depth, gait ranges); a part that cannot be known is None."""
     root = _check_tree(facts, problems)
     if root is None:
-        return None, None, None
+        return None, None, None, None
     dim = _root_dimension(facts, root, problems)
-    _check_joints(facts, root, angle, problems)
+    ranges = _gait_ranges(facts, root, prepared, problems, notes)
     if dim is None:
-        return root, None, None
+        return root, None, None, ranges
     depth = _depth(facts, dim, problems)
     if dim == 2:
         _check_planar(facts, root, depth, problems)
-    return root, dim, depth
+    return root, dim, depth, ranges
 
 
 def _link(facts: CompiledFacts, k: int) -> str:
@@ -235,8 +249,14 @@ def _root_dimension(facts: CompiledFacts, root: int, problems: list[str]) -> int
     return None
 
 
-def _check_joints(facts: CompiledFacts, root: int, angle: str, problems: list[str]) -> None:
-    unit = "radians" if angle == "radian" else "degrees"
+def _gait_ranges(facts: CompiledFacts, root: int, prepared, problems: list[str], notes: list[str]):
+    """Each actuated joint's range for the gait, {joint index: (lo, hi)} [rad].
+
+    MuJoCo's own limits where they are on; else, with a note per kind, the
+    range given but switched off (``limited="false"``), the targets of the
+    joint's position servo, or ``DEFAULT_RANGE``. A ball's range is (0, max angle).
+    """
+    ranges, switched_off, servo, default = {}, [], [], []
     for j in np.flatnonzero(facts.joint_link != root):
         kind, (lo, hi) = facts.joint_kind[j], facts.joint_range[j]
         if kind not in ACTUATED_KINDS:
@@ -245,15 +265,43 @@ def _check_joints(facts: CompiledFacts, root: int, angle: str, problems: list[st
                 "joints are allowed: make it a hinge or a ball, or remove it"
             )
             continue
-        has_range = hi > lo if kind == "hinge" else hi > 0
-        if facts.joint_limited[j] and has_range:
-            continue
-        if has_range:
-            fix = 'set limited="true" on it (its range is given but switched off)'
-        else:
-            example = 'range="0 max"' if kind == "ball" else 'range="lo hi"'
-            fix = f'add {example} limited="true" to it ({unit})'
-        problems.append(f"{_joint(facts, j)} has no limits; the gait needs them: {fix}")
+        name = facts.joint_names[j]
+        if (hi > lo if kind == "hinge" else hi > 0) and not facts.joint_limited[j]:
+            if prepared.angle != "radian":  # MuJoCo converts only the ranges it enforces
+                lo, hi = np.radians(lo), np.radians(hi)
+            switched_off.append(j)
+        elif not hi > lo and kind == "hinge" and name in prepared.servos:
+            lo, hi = prepared.servos[name]
+            servo.append(f"{name!r} {lo:.3g} to {hi:.3g} rad")
+        elif not hi > lo:
+            lo, hi = (-DEFAULT_RANGE, DEFAULT_RANGE) if kind == "hinge" else (0.0, DEFAULT_RANGE)
+            default.append(j)
+        ranges[int(j)] = (float(lo), float(hi))
+    if switched_off:
+        notes.append(
+            f"{_joints(facts, switched_off)} a range that is switched off "
+            '(limited="false"): it bounds the gait\'s amplitudes and offsets'
+        )
+    if servo:
+        has = "has" if len(servo) == 1 else "have"
+        notes.append(
+            f"{len(servo)} joint(s) {has} no range; the targets of their position servos "
+            f"bound the gait instead: {', '.join(servo)}"
+        )
+    if default:
+        notes.append(
+            f"{_joints(facts, default)} no range and no position servo: the gait is bounded "
+            f"at +-{np.degrees(DEFAULT_RANGE):g} degrees (give the joint a range to choose)"
+        )
+    return ranges
+
+
+def _joints(facts: CompiledFacts, js) -> str:
+    """"joint 'a' has" or "3 joints ('a', 'b', 'c') have"."""
+    labels = [repr(facts.joint_names[j]) if facts.joint_names[j] else f"#{j}" for j in js]
+    if len(labels) == 1:
+        return f"joint {labels[0]} has"
+    return f"{len(labels)} joints ({listing(labels)}) have"
 
 
 def _geom(facts: CompiledFacts, g: int) -> str:
@@ -335,11 +383,22 @@ def _prism_problem(facts: CompiledFacts, g: int, depth, tol: float) -> str | Non
     return None
 
 
+def _inertia_only_note(facts: CompiledFacts, geoms) -> str:
+    labels = [repr(facts.geom_names[g]) if facts.geom_names[g] else f"#{g}" for g in geoms]
+    links = sorted({_link(facts, facts.geom_link[g]) for g in geoms})
+    what = f"geom {labels[0]}" if len(labels) == 1 else f"{len(labels)} geoms ({listing(labels)})"
+    verb = "gives" if len(labels) == 1 else "give"
+    return (
+        f"{what} of {listing(links)}, hidden (group >= 3 or alpha 0), only {verb} mass: the "
+        "water sees each link's visible geoms (MuJoCo's masses and inertias unchanged)"
+    )
+
+
 # --- the description ------------------------------------------------------------
 
 
-def _build(mj, facts: CompiledFacts, source, dim, depth, root, notes) -> Model:
-    joints = tuple(_joint_record(facts, j) for j in range(len(facts.joint_names)))
+def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes) -> Model:
+    joints = tuple(_joint_record(facts, j, ranges.get(j)) for j in range(len(facts.joint_names)))
     dof_names = [""] * facts.nv
     for joint in joints:
         for i, name in enumerate(_dof_labels(joint)):
@@ -373,10 +432,14 @@ def _build(mj, facts: CompiledFacts, source, dim, depth, root, notes) -> Model:
     )
 
 
-def _joint_record(facts: CompiledFacts, j: int) -> Joint:
+def _joint_record(facts: CompiledFacts, j: int, gait_range) -> Joint:
+    """Joint ``j``; an actuated joint's range is ``gait_range`` (``_gait_ranges``), a
+    root joint's MuJoCo's own (None when unlimited)."""
     kind = facts.joint_kind[j]
     nq, nv = {"free": (7, 6), "ball": (4, 3), "hinge": (1, 1), "slide": (1, 1)}[kind]
     lo, hi = facts.joint_range[j]
+    if gait_range is None and facts.joint_limited[j]:
+        gait_range = (float(lo), float(hi))
     return Joint(
         name=facts.joint_names[j],
         kind=kind,
@@ -385,7 +448,7 @@ def _joint_record(facts: CompiledFacts, j: int) -> Joint:
         dof=int(facts.joint_dof[j]),
         nq=nq,
         nv=nv,
-        range=(float(lo), float(hi)) if facts.joint_limited[j] else None,
+        range=gait_range,
         axis=tuple(float(a) for a in facts.joint_axis[j]),
     )
 

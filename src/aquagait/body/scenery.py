@@ -34,7 +34,7 @@ IGNORED = {
     "contact": "aquagait's links do not collide; the objective penalizes overlapping links instead",
     "tendon": "tendons act only through actuators, limits and springs, none of which aquagait uses",
     "keyframe": "aquagait starts from the reference pose qpos0",
-    "option": "aquagait simulates its own water and body, with gravity off (neutral buoyancy)",
+    "option": "aquagait simulates its own water and body, with gravity off (nothing sinks or floats)",
     "passive": "aquagait's joints feel only the gait's PD torques and the water: no springs, "
     "damping, friction or rotor inertia",
 }
@@ -58,9 +58,13 @@ def names(elements, kind=False, most=4) -> str:
         name, kind_of = repr(e.get("name")) if e.get("name") else "", e.get("type") if kind else ""
         return " ".join(filter(None, [kind_of, name])) or "unnamed"
 
-    labels = [label(e) for e in elements[:most]]
-    more = f" and {len(elements) - most} more" if len(elements) > most else ""
-    return ", ".join(labels) + more
+    return listing([label(e) for e in elements], most)
+
+
+def listing(labels, most=4) -> str:
+    """Up to ``most`` labels, comma-separated, and how many more: "'a', 'b' and 3 more"."""
+    more = f" and {len(labels) - most} more" if len(labels) > most else ""
+    return ", ".join(labels[:most]) + more
 
 
 def set_aside(root) -> list[str]:

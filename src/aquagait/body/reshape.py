@@ -1,0 +1,102 @@
+"""The shape the water sees, apart from the masses MuJoCo computed.
+
+MuJoCo's compiled masses and inertias are the truth for the dynamics, however
+the file gives them: from geom densities (MuJoCo's default is water's, 1000
+kg/m^3), geom ``mass=``, or a body's ``<inertial>``. What the water sees is
+the union of the link's geoms, with one exception: files written for other
+simulators often carry a link's mass on a geom nobody is meant to see (the
+control suites' fish and swimmer put it on a box in a hidden group, or a fully
+transparent one) and draw the link with massless geoms. Such an
+*inertia-only* geom, hidden (MuJoCo's ``group`` 3 or above, which its viewer
+does not show) or invisible (``rgba`` alpha 0) on a link that has a visible
+geom, gives the link its mass but no shape. A link whose geoms are all hidden
+keeps them as its shape.
+
+To take a geom out of the water's view without changing the motion, the MJCF
+is rewritten (``pin_inertia``): every body gets an ``<inertial>`` holding the
+mass, centre of mass and principal inertia MuJoCo compiled for it, the
+compiler is told to take inertia from those (``inertiafromgeom="false"``), and
+the inertia-only geoms are removed; compiled again, the model moves exactly
+as before and its geoms are the shape.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+from aquagait.body.scenery import kids
+
+HIDDEN_GROUP = 3
+"""MuJoCo's viewer shows geom groups 0-2 by default; 3 and above are hidden."""
+
+
+def inertia_only(facts) -> list[int]:
+    """Indices of the geoms that give mass but no shape (module doc), by link.
+
+    Args:
+        facts: ``aquagait.body.dynamics.CompiledFacts`` of the compiled model.
+    Returns:
+        geom indices, ascending; empty when every geom shapes its link.
+    """
+    hidden = (facts.geom_group >= HIDDEN_GROUP) | (facts.geom_rgba[:, 3] == 0)
+    dropped = []
+    for link in range(len(facts.link_names)):
+        geoms = np.flatnonzero(facts.geom_link == link)
+        if hidden[geoms].any() and not hidden[geoms].all():
+            dropped += geoms[hidden[geoms]].tolist()
+    return sorted(dropped)
+
+
+def pin_inertia(xml: str, facts, drop=()) -> str:
+    """The MJCF ``xml`` with every body's compiled inertia pinned and ``drop`` removed.
+
+    Args:
+        xml: the MJCF text MuJoCo compiled into ``facts`` (one element per
+            body and geom, as ``aquagait.body.mjcf.prepare_mjcf`` writes it).
+        facts: its ``CompiledFacts``: the masses, centres of mass and principal
+            inertias to pin.
+        drop: indices of geoms to remove.
+    Returns:
+        MJCF text whose compiled model has the same link masses and inertias
+        and the remaining geoms only.
+    Raises:
+        RuntimeError: the text's bodies or geoms do not line up with the
+            compiled model's (a bug here, not in the user's file).
+    """
+    root = ET.fromstring(xml)
+    bodies = list(root.find("worldbody").iter("body"))  # MuJoCo numbers bodies depth first
+    geoms = [(body, geom) for body in bodies for geom in kids(body, "geom")]
+    if len(bodies) != len(facts.link_names) or len(geoms) != len(facts.geom_kind):
+        raise RuntimeError(
+            f"pin_inertia: {len(bodies)} bodies and {len(geoms)} geoms in the text, "
+            f"{len(facts.link_names)} and {len(facts.geom_kind)} compiled"
+        )
+    for k, body in enumerate(bodies):
+        for old in body.findall("inertial"):
+            body.remove(old)
+        pinned = ET.Element("inertial", {
+            "pos": _numbers(facts.link_ipos[k]),
+            "quat": _numbers(facts.link_iquat[k]),
+            "mass": repr(float(facts.link_mass[k])),
+            "diaginertia": _numbers(facts.link_inertia[k]),
+        })  # fmt: skip
+        body.insert(0, pinned)
+    for g in drop:
+        body, geom = geoms[g]
+        for holder in body.iter():  # the geom may sit in a <frame>
+            if geom in list(holder):
+                holder.remove(geom)
+                break
+    compilers = root.findall("compiler")
+    if not compilers:
+        compilers = [ET.Element("compiler")]
+        root.insert(0, compilers[0])
+    for compiler in compilers:
+        compiler.set("inertiafromgeom", "false")
+    return ET.tostring(root, encoding="unicode")
+
+
+def _numbers(values) -> str:
+    return " ".join(repr(float(v)) for v in values)

@@ -1,0 +1,124 @@
+"""Models written for other MuJoCo projects load as MuJoCo reads them (issue 31).
+
+Each small model carries one trait of the swimmers of control suites and RL
+benchmarks: masses from ``mass=`` or ``<inertial>``, a link's mass on a hidden
+geom, ranges switched off or missing.
+"""
+
+import mujoco
+import numpy as np
+import pytest
+
+from aquagait.body import load_model
+from aquagait.body.dynamics import Dynamics, compile_mjcf, describe
+from aquagait.body.geometry import link_volumes
+from aquagait.body.mjcf import prepare_mjcf
+from aquagait.body.model import DEFAULT_RANGE
+
+TAIL = (
+    "<body name='tail' pos='-.1 0 0'><joint name='j' type='hinge' axis='0 0 1' {joint}/>"
+    "<geom name='fin' type='box' size='.05 .005 .03' pos='-.05 0 0' {fin}/></body>"
+)
+
+
+def fish(head="", joint="range='-30 30'", fin="", extra="", compiler=""):
+    """A two-link 3D swimmer: an ellipsoid head and a box tail, with the given attributes."""
+    tail = TAIL.format(joint=joint, fin=fin)
+    return (
+        f"<mujoco>{compiler}<worldbody><body name='head'><freejoint/>"
+        f"<geom name='head' type='ellipsoid' size='.1 .03 .05' {head}/>{tail}</body>"
+        f"</worldbody>{extra}</mujoco>"
+    )
+
+
+def mujoco_model(xml: str):
+    """MuJoCo's own compile of the text aquagait reads (scenery set aside)."""
+    return compile_mjcf(xml=prepare_mjcf(xml, None, "<string>").xml)
+
+
+def test_geom_masses_and_inertials_are_mujocos():
+    head_volume = 4 / 3 * np.pi * 0.1 * 0.03 * 0.05
+    model = load_model(fish(head="mass='0.5'", fin="density='500'"))
+    assert model.link_mass == pytest.approx([0.5, 500 * 8 * 0.05 * 0.005 * 0.03], rel=1e-12)
+    inertial = "<inertial pos='-.05 0 0' mass='.02' diaginertia='1e-5 2e-5 3e-5'/>"
+    model = load_model(fish().replace("<geom name='fin'", inertial + "<geom name='fin'"))
+    assert model.link_mass == pytest.approx([1000 * head_volume, 0.02], rel=1e-12)
+    # the shape is still the geoms': the tail's box, though its mass comes from <inertial>
+    assert link_volumes(model)[1] == pytest.approx(8 * 0.05 * 0.005 * 0.03, rel=1e-12)
+
+
+def test_inertia_from_an_inertial_everywhere_is_accepted():
+    inertial = "<inertial pos='0 0 0' mass='{m}' diaginertia='1e-4 1e-4 1e-4'/>"
+    xml = fish(compiler="<compiler inertiafromgeom='false'/>")
+    xml = xml.replace("<freejoint/>", "<freejoint/>" + inertial.format(m=0.3))
+    xml = xml.replace("<geom name='fin'", inertial.format(m=0.01) + "<geom name='fin'")
+    assert load_model(xml).link_mass == pytest.approx([0.3, 0.01])
+
+
+def test_a_geom_without_density_has_waters_as_in_mujoco():
+    model = load_model(fish())
+    volumes = link_volumes(model)
+    assert model.link_mass == pytest.approx(1000 * volumes, rel=1e-12)
+
+
+@pytest.mark.parametrize("hidden", ["group='4'", "rgba='0 0 0 0'"], ids=["group", "alpha"])
+def test_a_hidden_geom_gives_mass_but_no_shape(hidden):
+    """The control suites' style: the mass on a hidden box, the shape on massless geoms."""
+    ballast = f"<geom name='ballast' type='box' size='.002 .06 .03' mass='0.03' {hidden}/>"
+    xml = fish(head="mass='0'").replace("<body name='tail'", ballast + "<body name='tail'")
+    model, original = load_model(xml), mujoco_model(xml)
+    names = describe(model.mj).geom_names
+    assert "ballast" not in names and "head" in names
+    assert any("'ballast'" in note and "only gives mass" in note for note in model.notes)
+    # the motion is MuJoCo's: same masses, same mass matrix at any pose
+    np.testing.assert_allclose(model.link_mass, original.body_mass[1:], rtol=1e-12)
+    rng = np.random.default_rng(1)
+    q = original.qpos0.copy()
+    q[3:7] = rng.normal(size=4)
+    q[3:7] /= np.linalg.norm(q[3:7])
+    q[7] = 0.3
+    data = mujoco.MjData(original)
+    data.qpos[:] = q
+    mujoco.mj_forward(original, data)
+    expected = np.zeros((original.nv, original.nv))
+    mujoco.mj_fullM(original, data, expected)
+    ours = Dynamics(model.mj).mass_matrix(q)
+    np.testing.assert_allclose(ours, expected, rtol=1e-10, atol=1e-14)
+
+
+def test_a_link_whose_geoms_are_all_hidden_keeps_them_as_its_shape():
+    model = load_model(fish(fin="group='3'"))
+    assert "fin" in describe(model.mj).geom_names
+    assert not any("only give" in note for note in model.notes)
+
+
+def gait_range(xml, joint="j"):
+    model = load_model(xml)
+    return model.joint(joint).range, model.notes
+
+
+def test_a_range_switched_off_bounds_the_gait_with_a_note():
+    bounds, notes = gait_range(fish(joint="limited='false' range='-30 30'"))
+    assert bounds == pytest.approx(np.radians([-30, 30]))
+    assert any("joint 'j' has a range that is switched off" in n for n in notes)
+    radian = "<compiler angle='radian'/>"
+    bounds, _ = gait_range(fish(joint="limited='false' range='-.4 .5'", compiler=radian))
+    assert bounds == pytest.approx([-0.4, 0.5])
+
+
+def test_a_joint_without_range_takes_its_position_servos_targets():
+    servo = "<actuator><position joint='j' ctrlrange='-0.5 0.8' gear='2' kp='1'/></actuator>"
+    bounds, notes = gait_range(fish(joint="", extra=servo))
+    assert bounds == pytest.approx([-0.25, 0.4])  # MuJoCo's servo holds q = ctrl / gear
+    assert any("position servo" in n and "'j' -0.25 to 0.4 rad" in n for n in notes)
+    motor = "<actuator><motor joint='j' ctrlrange='-1 1'/></actuator>"
+    bounds, notes = gait_range(fish(joint="", extra=motor))  # a motor bounds no angle
+    assert bounds == pytest.approx([-DEFAULT_RANGE, DEFAULT_RANGE])
+    assert any("no range and no position servo" in n and "60 degrees" in n for n in notes)
+
+
+def test_a_ball_without_range_gets_the_default_cone():
+    xml = fish(joint="").replace("type='hinge' axis='0 0 1'", "type='ball'")
+    model = load_model(xml)
+    assert model.joint("j").range == pytest.approx((0.0, DEFAULT_RANGE))
+    assert model.upper == pytest.approx([DEFAULT_RANGE] * 3)
