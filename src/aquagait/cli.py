@@ -451,12 +451,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     check.add_argument("--out", metavar="DIR", help="directory (default: runs/NAME-check)")
     check.add_argument("--no-picture", action="store_true", help="skip voxels.png")
+    _thicken_flag(check)
     check.set_defaults(run=_cmd_check)
 
     swim = commands.add_parser(
         "swim", help="swim a creature with a gait; write trajectory, metrics and video"
     )
     swim.add_argument("name", metavar="NAME", help=NAME_HELP)
+    _thicken_flag(swim)
     swim.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
     swim.add_argument("--maneuver", choices=MANEUVERS,
                       help="swim a learned manoeuvre's shipped gait instead")  # fmt: skip
@@ -478,6 +480,7 @@ def build_parser() -> argparse.ArgumentParser:
         "optimize", help="find a gait with CMA-ES; write gait.json, the log and the best swim"
     )
     optimize.add_argument("name", metavar="NAME", help=NAME_HELP)
+    _thicken_flag(optimize)
     optimize.add_argument("--generations", type=int,
                           help="the most CMA-ES generations (per group); given alone, a fixed "
                           "budget as in the paper (100); default: stop when converged")  # fmt: skip
@@ -524,6 +527,7 @@ def build_parser() -> argparse.ArgumentParser:
         "the distance to the path, a video and a picture of the way"
     )  # fmt: skip
     follow.add_argument("name", metavar="NAME", help=NAME_HELP)
+    _thicken_flag(follow)
     follow.add_argument("--path", required=True, metavar="FILE|SHAPE",
                         help="a CSV or JSON file of points [m], or a shape: line, circle, "
                         "s-curve, with parameters as NAME:key=value,... (e.g. circle:"
@@ -557,6 +561,7 @@ def build_parser() -> argparse.ArgumentParser:
         "compare", help="one gait in the Euler and the simple fluid: distances, plot, video"
     )
     compare.add_argument("name", metavar="NAME", help=NAME_HELP)
+    _thicken_flag(compare)
     compare.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
     compare.add_argument("--seconds", type=float, default=3.0, help="simulated time [s]")
     compare.add_argument("--optimize", type=int, nargs="?", const=CONVERGED, metavar="G",
@@ -618,6 +623,15 @@ def _add_evaluator_flags(parser) -> None:
                         help="evaluate on a Dask cluster instead (extra: dist)")  # fmt: skip
 
 
+def _thicken_flag(command) -> None:
+    command.add_argument(
+        "--no-thicken",
+        action="store_true",
+        help="an MJCF's parts thinner than a cell of its default grid stay as written "
+        "(by default they are thickened for the fluid, masses unchanged)",
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``aquagait`` console script; returns the exit status."""
     parser = build_parser()
@@ -625,4 +639,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 0
+    if getattr(args, "no_thicken", False):
+        from aquagait.creatures import as_written
+
+        args.name = as_written(args.name)
     return args.run(args)

@@ -27,6 +27,9 @@ SWIMMER = """<mujoco model="three-link swimmer">
 
 GRID = ["--resolution", "56", "24", "--cell-size", "0.01"]
 
+EQUALITY = '<equality><joint joint1="j1" joint2="j2"/></equality>'
+"""A constraint between joints: something aquagait cannot simulate."""
+
 
 @pytest.fixture(scope="module")
 def swimmer(tmp_path_factory):
@@ -129,14 +132,17 @@ def test_a_path_that_is_not_there_is_one_line_and_status_2(tmp_path, capsys):
     "files,message",
     [
         ({"swimmer.xml": "not xml at all"}, "swimmer.xml"),
-        ({"swimmer.xml": SWIMMER.replace(' range="-60 60"', "")}, 'add range="lo hi"'),
+        (
+            {"swimmer.xml": SWIMMER.replace("</mujoco>", EQUALITY + "</mujoco>")},
+            "aquagait solves no constraints between links",
+        ),
         (
             {"swimmer.xml": SWIMMER, "swimmer.aquagait.json": '{"gait": {"dofs": "j1"}}'},
             "gait.dofs",
         ),
         ({"swimmer.xml": SWIMMER, "swimmer.aquagait.json": "{"}, "swimmer.aquagait.json"),
     ],
-    ids=["not-xml", "unlimited-joints", "metadata-shape", "metadata-not-json"],
+    ids=["not-xml", "equality", "metadata-shape", "metadata-not-json"],
 )
 def test_a_bad_file_is_a_message_and_status_2_in_every_command(tmp_path, capsys, files, message):
     for name, text in files.items():

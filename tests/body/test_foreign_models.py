@@ -122,3 +122,44 @@ def test_a_ball_without_range_gets_the_default_cone():
     model = load_model(xml)
     assert model.joint("j").range == pytest.approx((0.0, DEFAULT_RANGE))
     assert model.upper == pytest.approx([DEFAULT_RANGE] * 3)
+
+
+def test_thin_geoms_are_thickened_for_the_fluid_and_the_motion_is_unchanged():
+    """A 2 mm fin (a control-suite fish's) widened to 6 mm: its other sides, its frame and
+    the link's mass and inertia are MuJoCo's as written."""
+    xml = fish(fin="").replace("size='.05 .005 .03'", "size='.05 .001 .03' euler='0 0 20'")
+    model, original = load_model(xml, thicken_to=0.006), mujoco_model(xml)
+    facts, written = describe(model.mj), describe(original)
+    np.testing.assert_allclose(facts.geom_size[1], [0.05, 0.003, 0.03])
+    np.testing.assert_allclose(facts.geom_box[0], written.geom_box[0])  # the head as it was
+    np.testing.assert_allclose(facts.geom_pos, written.geom_pos, atol=1e-15)
+    np.testing.assert_allclose(facts.geom_rot, written.geom_rot, atol=1e-15)
+    np.testing.assert_allclose(model.link_mass, original.body_mass[1:], rtol=1e-12)
+    np.testing.assert_allclose(facts.link_inertia, written.link_inertia, rtol=1e-12)
+    assert any("thickened for the fluid to 6 mm: 'fin' 2 -> 6 mm" in n for n in model.notes)
+    assert load_model(xml, thicken_to=0.002).notes == load_model(xml).notes  # not thin: as is
+
+
+PLANAR = """<mujoco><custom><numeric name="aquagait_depth" data="0.04"/></custom><worldbody>
+  <body name="head"><joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>
+    <joint type="hinge" axis="0 0 1"/><geom type="box" size=".05 .01 .02"/>
+    <body name="tail" pos="-.05 0 0"><joint name="j" type="hinge" axis="0 0 1" range="-30 30"/>
+      <geom name="fin" type="box" size=".05 .001 .02" pos="-.05 0 0"/></body>
+  </body></worldbody></mujoco>"""
+
+
+def test_a_planar_prism_is_thickened_in_its_plane_only():
+    model = load_model(PLANAR, thicken_to=0.004)
+    assert model.dim == 2
+    np.testing.assert_allclose(describe(model.mj).geom_size[1], [0.05, 0.002, 0.02])
+
+
+def test_the_ellipsoids_thickness_is_its_least_axis():
+    """Deep inside a flat ellipsoid the first-order distance estimate reached its longest
+    semi-axis: a 2 mm fin measured 32 mm thick, and the default grid would not see it."""
+    from aquagait.body.shape import body_shape, link_thickness
+
+    xml = fish(fin="").replace("type='box' size='.05 .005 .03'", "type='ellipsoid' "
+                               "size='.02 .001 .016'")  # fmt: skip
+    shape = body_shape(load_model(xml), 0.002, refine=4)
+    assert link_thickness(shape)[1] == pytest.approx(0.002, abs=shape.spacing)

@@ -34,11 +34,13 @@ def creature_key(creature: Creature) -> str:
     """What a worker process passes to ``creatures.resolve`` to find this creature again.
 
     A library creature by its name; any other by the absolute path of its
-    MJCF file (a worker on another machine needs the same file at that path).
+    MJCF file (a worker on another machine needs the same file at that path),
+    marked ``creatures.AS_WRITTEN`` when its thin parts were not thickened.
     """
     if creature.name in creatures.names() and creatures.get(creature.name) is creature:
         return creature.name
-    return str(Path(creature.source).resolve())
+    path = str(Path(creature.source).resolve())
+    return creatures.as_written(path) if creature.as_written else path
 
 
 def find_gait(creature: Creature, gait: str | Path) -> tuple[np.ndarray, str, str]:

@@ -80,7 +80,8 @@ class CompiledFacts:
     (ng, 3, 3) world frames, ``geom_vertices`` (list of (nv_i, 3) world mesh
     vertices or None), ``geom_box`` (ng, 2, 3) world axis-aligned bounds [m],
     ``geom_rgba`` (ng, 4) colour in [0, 1] (its material's where the geom sets none),
-    ``geom_group`` (ng,) MuJoCo's visibility group (0-2 shown by its viewer).
+    ``geom_group`` (ng,) MuJoCo's visibility group (0-2 shown by its viewer),
+    ``geom_local_pos`` (ng, 3) and ``geom_local_quat`` (ng, 4) its frame in its link's.
     ``numeric``: the MJCF ``<custom><numeric>`` entries; ``qpos0`` (nq,); ``nv``.
     """
 
@@ -111,6 +112,8 @@ class CompiledFacts:
     geom_box: np.ndarray
     geom_rgba: np.ndarray
     geom_group: np.ndarray
+    geom_local_pos: np.ndarray
+    geom_local_quat: np.ndarray
     numeric: dict
     qpos0: np.ndarray
     nv: int
@@ -171,6 +174,8 @@ def describe(mj) -> CompiledFacts:
         geom_box=np.stack([world_centre - world_half, world_centre + world_half], axis=1),
         geom_rgba=_geom_rgba(mj),
         geom_group=mj.geom_group.copy(),
+        geom_local_pos=mj.geom_pos.copy(),
+        geom_local_quat=mj.geom_quat.copy(),
         numeric=numeric,
         qpos0=mj.qpos0.copy(),
         nv=mj.nv,

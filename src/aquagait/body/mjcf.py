@@ -289,13 +289,16 @@ def servo_ranges(root) -> dict[str, tuple[float, float]]:
     classes, found = _default_classes(root), {}
     for servo in (e for section in root.findall("actuator") for e in section.iter("position")):
         cls = servo.get("class", "main")
-        get = lambda attr: servo.get(attr) or _default_attr(classes, cls, attr, "position")  # noqa: E731
-        joint, ctrlrange = servo.get("joint"), get("ctrlrange")
-        if not joint or not ctrlrange or (get("ctrllimited") or "auto").lower() == "false":
+        ctrlrange, limited, gear = (
+            servo.get(attr) or _default_attr(classes, cls, attr, "position")
+            for attr in ("ctrlrange", "ctrllimited", "gear")
+        )
+        joint = servo.get("joint")
+        if not joint or not ctrlrange or (limited or "auto").lower() == "false":
             continue
         try:
             lo, hi = (float(v) for v in ctrlrange.split())
-            gear = float((get("gear") or "1").split()[0])
+            gear = float((gear or "1").split()[0])
         except ValueError:
             continue  # MuJoCo's compiler will say what is wrong with it
         if gear != 0 and hi > lo:

@@ -39,7 +39,7 @@ import numpy as np
 
 from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe
 from aquagait.body.mjcf import ModelError, prepare_mjcf, read_mjcf
-from aquagait.body.reshape import inertia_only, pin_inertia
+from aquagait.body.reshape import inertia_only, pin_inertia, thin_geoms
 from aquagait.body.scenery import listing
 
 DEPTH_NAME = "aquagait_depth"
@@ -143,7 +143,7 @@ class Model:
         return self.dof_names.index(name)
 
 
-def load_model(mjcf: str | Path) -> Model:
+def load_model(mjcf: str | Path, thicken_to: float | None = None) -> Model:
     """Load and check an MJCF creature, listing every problem at once.
 
     What only describes scenery or another simulator's set-up (a floor,
@@ -153,6 +153,9 @@ def load_model(mjcf: str | Path) -> Model:
     Args:
         mjcf: a path to an MJCF file, or the MJCF text itself (a string
             starting with '<').
+        thicken_to: if given, every primitive geom thinner than this [m] is
+            widened to it for the fluid, masses and inertias unchanged
+            (``aquagait.body.reshape``), with a note naming each.
 
     Returns:
         The checked ``Model``.
@@ -176,7 +179,14 @@ def load_model(mjcf: str | Path) -> Model:
     hidden = inertia_only(facts)
     if hidden:
         notes.append(_inertia_only_note(facts, hidden))
-        mj = compile_mjcf(xml=pin_inertia(prepared.xml, facts, hidden))
+    sizes, meshes = thin_geoms(facts, thicken_to, dim == 2) if thicken_to else ({}, [])
+    kept = [g for g in range(len(facts.geom_kind)) if g not in hidden]
+    if any(g in sizes for g in kept) or any(g in meshes for g in kept):
+        notes.append(_thickened_note(facts, thicken_to, {g: sizes[g] for g in kept if g in sizes},
+                                     [g for g in meshes if g in kept]))  # fmt: skip
+    if hidden or sizes:
+        xml = pin_inertia(prepared.xml, facts, hidden, {g: sizes[g] for g in kept if g in sizes})
+        mj = compile_mjcf(xml=xml)
         facts = describe(mj)
     return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes))
 
@@ -297,7 +307,7 @@ def _gait_ranges(facts: CompiledFacts, root: int, prepared, problems: list[str],
 
 
 def _joints(facts: CompiledFacts, js) -> str:
-    """"joint 'a' has" or "3 joints ('a', 'b', 'c') have"."""
+    """ "joint 'a' has" or "3 joints ('a', 'b', 'c') have"."""
     labels = [repr(facts.joint_names[j]) if facts.joint_names[j] else f"#{j}" for j in js]
     if len(labels) == 1:
         return f"joint {labels[0]} has"
@@ -392,6 +402,26 @@ def _inertia_only_note(facts: CompiledFacts, geoms) -> str:
         f"{what} of {listing(links)}, hidden (group >= 3 or alpha 0), only {verb} mass: the "
         "water sees each link's visible geoms (MuJoCo's masses and inertias unchanged)"
     )
+
+
+def _thickened_note(facts: CompiledFacts, minimum: float, sizes: dict, meshes: list) -> str:
+    """Which geoms were widened for the fluid, from what to what, and which meshes were not."""
+    parts = []
+    for g, size in sizes.items():
+        label = repr(facts.geom_names[g]) if facts.geom_names[g] else f"#{g}"
+        was = 2 * facts.geom_size[g][size != facts.geom_size[g]].min()
+        parts.append(f"{label} {was * 1e3:.3g} -> {minimum * 1e3:.3g} mm")
+    said = []
+    if parts:
+        said.append(
+            f"thickened for the fluid to {minimum * 1e3:.3g} mm: {listing(parts, 6)} (masses "
+            "and inertias unchanged; --no-thicken keeps them as written)"
+        )
+    if meshes:
+        labels = [repr(facts.geom_names[g]) if facts.geom_names[g] else f"#{g}" for g in meshes]
+        said.append(f"mesh geoms thinner than {minimum * 1e3:.3g} mm are not thickened: "
+                    f"{listing(labels)}")  # fmt: skip
+    return "; ".join(said)
 
 
 # --- the description ------------------------------------------------------------

@@ -18,6 +18,14 @@ mass, centre of mass and principal inertia MuJoCo compiled for it, the
 compiler is told to take inertia from those (``inertiafromgeom="false"``), and
 the inertia-only geoms are removed; compiled again, the model moves exactly
 as before and its geoms are the shape.
+
+The same rewrite thickens thin parts for the fluid (``thin_geoms``): a grid
+sees a part well only when it is about two cells thick (DESIGN.md §2.8), and
+fins written for MuJoCo's own fluid model are often 2 mm plates. A primitive
+geom thinner than a given minimum across any of its sides gets that side
+widened to the minimum (its other sides, its centre and its axes kept); its
+link's mass and inertia stay MuJoCo's, since they are pinned. Meshes are
+not thickened (a note names them).
 """
 
 from __future__ import annotations
@@ -30,6 +38,9 @@ from aquagait.body.scenery import kids
 
 HIDDEN_GROUP = 3
 """MuJoCo's viewer shows geom groups 0-2 by default; 3 and above are hidden."""
+
+PLACEMENT = ("fromto", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "size")
+"""The attributes that place and size a geom, replaced when it is rewritten."""
 
 
 def inertia_only(facts) -> list[int]:
@@ -49,8 +60,47 @@ def inertia_only(facts) -> list[int]:
     return sorted(dropped)
 
 
-def pin_inertia(xml: str, facts, drop=()) -> str:
-    """The MJCF ``xml`` with every body's compiled inertia pinned and ``drop`` removed.
+def thin_geoms(facts, minimum: float, planar: bool) -> tuple[dict[int, np.ndarray], list[int]]:
+    """The primitive geoms thinner than ``minimum`` [m], each with its thickened size.
+
+    Args:
+        facts: the compiled model's ``CompiledFacts``.
+        minimum: the thickness every part should have [m].
+        planar: a planar (2D) model: only the sides in the plane count (a
+            prism's depth along z is the model's, not a thickness).
+    Returns:
+        ``(sizes, meshes)``: geom index -> its new MuJoCo size (3,) [m], for each
+        primitive with a side under ``minimum``; and the mesh geoms that are
+        that thin, left as they are.
+    """
+    half = minimum / 2
+    sizes, meshes = {}, []
+    for g, kind in enumerate(facts.geom_kind):
+        size = facts.geom_size[g].copy()
+        if kind == "mesh":
+            lo, hi = facts.geom_box[g]
+            sides = (hi - lo)[:2] if planar else hi - lo
+            if sides.min() < minimum:
+                meshes.append(g)
+            continue
+        # the entries of a MuJoCo size that are half-thicknesses: radii and half-sides
+        across = {
+            "box": [0, 1] if planar else [0, 1, 2],
+            "ellipsoid": [0, 1] if planar else [0, 1, 2],
+            "cylinder": [0] if planar else [0, 1],
+            "capsule": [0],
+            "sphere": [0],
+        }[kind]
+        thin = [i for i in across if size[i] < half]
+        if thin:
+            size[thin] = half
+            sizes[g] = size
+    return sizes, meshes
+
+
+def pin_inertia(xml: str, facts, drop=(), sizes=None) -> str:
+    """The MJCF ``xml`` with every body's compiled inertia pinned, ``drop`` removed
+    and the geoms in ``sizes`` given those sizes.
 
     Args:
         xml: the MJCF text MuJoCo compiled into ``facts`` (one element per
@@ -58,9 +108,12 @@ def pin_inertia(xml: str, facts, drop=()) -> str:
         facts: its ``CompiledFacts``: the masses, centres of mass and principal
             inertias to pin.
         drop: indices of geoms to remove.
+        sizes: geom index -> MuJoCo size (3,) [m] (``thin_geoms``); the geom is
+            rewritten in MuJoCo's compiled form (type, pos, quat, size in its
+            link's frame) with that size.
     Returns:
-        MJCF text whose compiled model has the same link masses and inertias
-        and the remaining geoms only.
+        MJCF text whose compiled model has the same link masses and inertias,
+        the remaining geoms only, and the new sizes.
     Raises:
         RuntimeError: the text's bodies or geoms do not line up with the
             compiled model's (a bug here, not in the user's file).
@@ -83,6 +136,14 @@ def pin_inertia(xml: str, facts, drop=()) -> str:
             "diaginertia": _numbers(facts.link_inertia[k]),
         })  # fmt: skip
         body.insert(0, pinned)
+    for g, size in (sizes or {}).items():
+        _, geom = geoms[g]
+        for placement in PLACEMENT:
+            geom.attrib.pop(placement, None)
+        geom.set("type", facts.geom_kind[g])
+        geom.set("pos", _numbers(facts.geom_local_pos[g]))
+        geom.set("quat", _numbers(facts.geom_local_quat[g]))
+        geom.set("size", _numbers(size))
     for g in drop:
         body, geom = geoms[g]
         for holder in body.iter():  # the geom may sit in a <frame>

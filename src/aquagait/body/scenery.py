@@ -34,7 +34,8 @@ IGNORED = {
     "contact": "aquagait's links do not collide; the objective penalizes overlapping links instead",
     "tendon": "tendons act only through actuators, limits and springs, none of which aquagait uses",
     "keyframe": "aquagait starts from the reference pose qpos0",
-    "option": "aquagait simulates its own water and body, with gravity off (nothing sinks or floats)",
+    "option": "aquagait simulates its own water and body, with gravity off (nothing sinks or "
+    "floats)",
     "passive": "aquagait's joints feel only the gait's PD torques and the water: no springs, "
     "damping, friction or rotor inertia",
 }

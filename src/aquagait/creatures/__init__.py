@@ -3,7 +3,8 @@
     import aquagait as ag
     ag.creatures.names()                 # ['accordion2d', 'eel2d', 'fish']
     eel = ag.creatures.get("eel2d")      # model, dim, default grid, gait spec
-    mine = ag.creatures.load("my.xml")   # my.xml (+ my.aquagait.json), defaults filled
+    mine = ag.creatures.load("my.xml")   # my.xml (+ my.aquagait.json), defaults filled,
+                                         # thin parts thickened (thicken=False: as written)
     ag.creatures.resolve("eel2d")        # a library name, or a path to an MJCF file
     ag.creatures.register("mine", build_function)
 
@@ -17,6 +18,9 @@ the model: ``aquagait.creatures.defaults``.
 from aquagait.creatures.creature import Creature, CreatureError, ShippedGait, UnknownCreatureError
 from aquagait.creatures.defaults import ENERGY_COEFFICIENT, energy_bound
 from aquagait.creatures.registry import (
+    AS_WRITTEN,
+    THICKEN_CELLS,
+    as_written,
     format_table,
     get,
     load,
@@ -29,7 +33,10 @@ from aquagait.creatures.registry import (
 register_library()
 
 __all__ = [
+    "AS_WRITTEN",
     "ENERGY_COEFFICIENT",
+    "THICKEN_CELLS",
+    "as_written",
     "Creature",
     "CreatureError",
     "ShippedGait",

@@ -80,6 +80,8 @@ class Creature:
             (``turn-left``, ``pitch-up``, ...: its manoeuvre library, each in the
             parameterization ``spec(name)``) and any others (``optimized``).
         notes: the defaults that were filled in, one line each.
+        as_written: its thin parts are kept as its MJCF writes them, not
+            thickened for the fluid (``aquagait.creatures.registry``, ``--no-thicken``).
     """
 
     name: str
@@ -97,6 +99,7 @@ class Creature:
     metadata_path: Path | None = None
     gaits: Mapping[str, ShippedGait] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
+    as_written: bool = False
 
     def __post_init__(self):
         object.__setattr__(self, "default_gait", np.asarray(self.default_gait, dtype=float))

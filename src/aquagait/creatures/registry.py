@@ -5,11 +5,18 @@ A library creature is an MJCF file beside this module, its side-car
 docstring tables it; every shipped side-car is registered under its stem.
 ``load(path)`` makes a creature of any MJCF file the same way, and
 ``resolve(name_or_path)`` takes either.
+
+A creature from a file has its thin parts thickened for the fluid to at least
+``THICKEN_CELLS`` of its default grid's cells (``aquagait.body.reshape``;
+masses unchanged, a note names each part). ``load(path, thicken=False)``
+keeps them as written; its key for ``resolve`` (and for worker processes)
+is the path with ``AS_WRITTEN`` appended (``as_written``).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 from aquagait.body.model import load_model
@@ -23,6 +30,13 @@ from aquagait.creatures.metadata import (
 )
 
 HERE = Path(__file__).resolve().parent
+
+THICKEN_CELLS = 1.0
+"""Thinnest part the fluid gets, in default-grid cells: every library creature was built at
+least this thick by hand (the sub-cell faces see it in part; ``aquagait check``)."""
+
+AS_WRITTEN = "#as-written"
+"""Appended to an MJCF path, the creature with its thin parts as written (``--no-thicken``)."""
 
 _FACTORIES: dict[str, Callable[[], Creature]] = {}
 _BUILT: dict[str, Creature] = {}
@@ -83,16 +97,18 @@ def format_table() -> str:
 _LOADED: dict[tuple, Creature] = {}
 
 
-def load(path) -> Creature:
+def load(path, thicken: bool = True) -> Creature:
     """The creature in an MJCF file, with its side-car ``<stem>.aquagait.json`` if there is one.
 
     What the side-car leaves out (or all of it, without one) comes from the
     model (``aquagait.creatures.defaults``); ``Creature.notes`` lists it. The
-    creature is named after the file's stem. Loaded once per file and
-    modification time (of the MJCF and its side-car).
+    creature is named after the file's stem. Loaded once per file, choice of
+    ``thicken`` and modification time (of the MJCF and its side-car).
 
     Args:
         path: the MJCF file (a side-car's path finds its MJCF beside it).
+        thicken: widen parts thinner than ``THICKEN_CELLS`` default cells for the
+            fluid (module doc); False keeps them as written.
 
     Raises:
         CreatureError: no such file, or a side-car that is malformed or does
@@ -107,18 +123,36 @@ def load(path) -> Creature:
         what = "is a directory" if mjcf.is_dir() else "does not exist"
         raise CreatureError(f"{path} {what}: give the path of an MJCF file (.xml)")
     side = sidecar_path(mjcf)
-    key = (str(mjcf), mjcf.stat().st_mtime_ns, side.stat().st_mtime_ns if side.is_file() else None)
+    times = (mjcf.stat().st_mtime_ns, side.stat().st_mtime_ns if side.is_file() else None)
+    key = (str(mjcf), thicken, *times)
     if key not in _LOADED:
         meta = read_metadata(side) if side.is_file() else Metadata()
         creature = build_creature(load_model(mjcf), meta, name=mjcf.stem)
-        for old in [k for k in _LOADED if k[0] == key[0]]:  # an edited file's older versions
+        if thicken:
+            model = load_model(mjcf, thicken_to=THICKEN_CELLS * creature.cell_size)
+            if model.notes != creature.model.notes:  # something was thickened
+                creature = build_creature(model, meta, name=mjcf.stem)
+        else:
+            creature = replace(creature, as_written=True)
+        for old in [k for k in _LOADED if k[:2] == key[:2]]:  # an edited file's older versions
             del _LOADED[old]
         _LOADED[key] = creature
     return _LOADED[key]
 
 
+def as_written(name_or_path) -> str:
+    """The key ``resolve`` takes for this creature with its thin parts as written.
+
+    A library name is returned as it is: library creatures need no thickening.
+    """
+    text = str(name_or_path)
+    return text if text in _FACTORIES or text.endswith(AS_WRITTEN) else text + AS_WRITTEN
+
+
 def resolve(name_or_path) -> Creature:
     """A library creature by name, else the creature in that MJCF file (``load``).
+
+    A path ending in ``AS_WRITTEN`` loads the file with ``thicken=False``.
 
     Raises:
         UnknownCreatureError: neither a library name nor a file; the message
@@ -128,9 +162,11 @@ def resolve(name_or_path) -> Creature:
     text = str(name_or_path)
     if not isinstance(name_or_path, Path) and text in _FACTORIES:
         return get(text)
+    thicken = not text.endswith(AS_WRITTEN)
+    text = text.removesuffix(AS_WRITTEN)
     path = Path(text).expanduser()
     if path.exists() or path.suffix.lower() == ".xml" or "/" in text or "\\" in text:
-        return load(path)
+        return load(path, thicken)
     raise UnknownCreatureError(
         f"unknown creature {text!r}; known creatures: {', '.join(names())}; "
         "or give the path of an MJCF file (e.g. my_creature.xml)"
