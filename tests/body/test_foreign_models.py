@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from aquagait.body import load_model
+from aquagait.body import ModelError, load_model
 from aquagait.body.dynamics import Dynamics, compile_mjcf, describe
 from aquagait.body.geometry import link_volumes
 from aquagait.body.mjcf import prepare_mjcf
@@ -163,3 +163,53 @@ def test_the_ellipsoids_thickness_is_its_least_axis():
                                "size='.02 .001 .016'")  # fmt: skip
     shape = body_shape(load_model(xml), 0.002, refine=4)
     assert link_thickness(shape)[1] == pytest.approx(0.002, abs=shape.spacing)
+
+
+ALONG_Y = """<mujoco><worldbody>
+  <body name="head" pos="0 0 .1"><freejoint/>
+    <geom name="head" type="ellipsoid" size=".01 .04 .015"/>
+    <body name="tail" pos="0 -.04 0"><joint name="j" axis="0 0 1" range="-30 30"/>
+      <geom name="fin" type="box" size=".003 .02 .012" pos="0 -.02 0"/></body>
+  </body></worldbody></mujoco>"""
+
+
+def test_a_fish_modelled_head_along_y_is_turned_to_swim_along_x():
+    model, written = load_model(ALONG_Y), describe(mujoco_model(ALONG_Y))
+    assert model.forward == (0.0, 1.0, 0.0)
+    assert any("forward is the model's +y" in note for note in model.notes)
+    facts = describe(model.mj)
+    turn = np.array([[0.0, 1, 0], [-1, 0, 0], [0, 0, 1]])  # +y -> +x about z
+    np.testing.assert_allclose(facts.link_pos, written.link_pos @ turn.T, atol=1e-15)
+    np.testing.assert_allclose(facts.link_rot, turn @ written.link_rot, atol=1e-15)
+    assert model.extent[0] == pytest.approx(written.geom_box[:, 1, 1].max()
+                                            - written.geom_box[:, 0, 1].min())  # fmt: skip
+    np.testing.assert_allclose(model.link_mass, mujoco_model(ALONG_Y).body_mass[1:], rtol=1e-12)
+
+
+def test_a_planar_swimmer_facing_minus_y_stays_planar_when_turned():
+    """The control suites' swimmer: nose at -y, links along +y, slides along x and y."""
+    xml = PLANAR.replace('pos="-.05 0 0"><joint', 'pos="0 .05 0"><joint')
+    xml = xml.replace('size=".05 .01 .02"/>', 'size=".01 .05 .02"/>').replace(
+        'size=".05 .001 .02" pos="-.05 0 0"', 'size=".001 .05 .02" pos="0 .05 0"'
+    )
+    model = load_model(xml)
+    assert model.dim == 2 and model.forward == (0.0, -1.0, 0.0)
+    facts = describe(model.mj)
+    root = [j for j in model.joints if j.link == 0]
+    np.testing.assert_allclose([j.axis for j in root], np.eye(3), atol=1e-12)
+    assert facts.link_pos[1, 0] < facts.link_pos[0, 0]  # the tail now trails along -x
+
+
+def test_the_side_car_can_say_which_way_is_forward():
+    assert load_model(PLANAR, forward=(0.0, 1.0)).forward == (0.0, 1.0, 0.0)
+    with pytest.raises(ModelError, match=r"forward \[0.0, 1.0, 1.0\] leaves the plane"):
+        load_model(PLANAR, forward=(0.0, 1.0, 1.0))
+
+
+@pytest.mark.parametrize("name", ["eel2d", "fish", "manta", "turtle3d", "frog"])
+def test_the_library_faces_plus_x_as_written(name):
+    import aquagait as ag
+
+    model = ag.creatures.get(name).model
+    assert model.forward == (1.0, 0.0, 0.0)
+    assert not any(note.startswith("forward") for note in model.notes)

@@ -135,7 +135,8 @@ def run_check(setup: CheckSetup) -> CheckReport:
     """Measure the creature: links, DOFs, gait, grid, clearance; warn about thin links.
 
     ``numbers`` holds: ``creature``, ``description``, ``source``, ``dim``,
-    ``depth`` [m] (2D), ``mass`` [kg], ``displaced`` (the mass of the water the
+    ``depth`` [m] (2D), ``forward`` (3,) the head's direction in the file's frame
+    (``Model.forward``), ``mass`` [kg], ``displaced`` (the mass of the water the
     body displaces) [kg], ``body_length`` [m], ``links`` (per link: ``name``,
     ``mass`` [kg], ``volume`` [m^3], ``density`` [kg/m^3], ``buoyancy`` (its
     mass over that of the water it displaces),
@@ -164,6 +165,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "displaced": sum(r["volume"] for r in links) * setup.scene.density,
         "water_density": setup.scene.density,
         "body_length": float(model.body_length),
+        "forward": list(model.forward),
         "links": links,
         "volume_from": "geoms",
         "thinnest": _thinnest(links),

@@ -39,13 +39,19 @@ import numpy as np
 
 from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe
 from aquagait.body.mjcf import ModelError, prepare_mjcf, read_mjcf
-from aquagait.body.reshape import inertia_only, pin_inertia, thin_geoms
+from aquagait.body.reshape import inertia_only, pin_inertia, thin_geoms, turn_root
 from aquagait.body.scenery import listing
 
 DEPTH_NAME = "aquagait_depth"
 ACTUATED_KINDS = ("hinge", "ball")
 DEFAULT_RANGE = np.radians(60.0)
 """A joint's gait bound [rad] when the model gives it no range and no position servo."""
+
+HEAD_END = 0.1
+"""The root link's centre must lie this many body lengths off the body's middle, along one
+axis, for that end to be taken as the head (``Model.forward``); else the head is at +x."""
+
+X = np.array([1.0, 0.0, 0.0])
 
 
 @dataclass(frozen=True)
@@ -99,6 +105,11 @@ class Model:
         notes: one line per kind of MJCF content the loader ignored and why
             (a floor, lights, actuators, armature, ...); empty for a model that
             describes only the creature.
+        forward: (3,) the direction its head points in the file's frame: given
+            (the side-car's ``forward``), or the model's axis from the middle of
+            its body towards its root link when the root lies ``HEAD_END`` body
+            lengths or more towards one end, else +x. The model is turned so
+            that this is +x, the direction aquagait swims.
     """
 
     source: str
@@ -119,6 +130,7 @@ class Model:
     body_length: float
     qpos0: np.ndarray
     notes: tuple[str, ...] = ()
+    forward: tuple[float, float, float] = (1.0, 0.0, 0.0)
 
     @property
     def nq(self) -> int:
@@ -143,7 +155,7 @@ class Model:
         return self.dof_names.index(name)
 
 
-def load_model(mjcf: str | Path, thicken_to: float | None = None) -> Model:
+def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) -> Model:
     """Load and check an MJCF creature, listing every problem at once.
 
     What only describes scenery or another simulator's set-up (a floor,
@@ -156,6 +168,9 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None) -> Model:
         thicken_to: if given, every primitive geom thinner than this [m] is
             widened to it for the fluid, masses and inertias unchanged
             (``aquagait.body.reshape``), with a note naming each.
+        forward: the direction the head points in the file's frame, (2,) or
+            (3,); None: from the model (``Model.forward``). A creature facing
+            elsewhere than +x is turned to face +x, with a note.
 
     Returns:
         The checked ``Model``.
@@ -184,11 +199,23 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None) -> Model:
     if any(g in sizes for g in kept) or any(g in meshes for g in kept):
         notes.append(_thickened_note(facts, thicken_to, {g: sizes[g] for g in kept if g in sizes},
                                      [g for g in meshes if g in kept]))  # fmt: skip
+    xml = prepared.xml
     if hidden or sizes:
-        xml = pin_inertia(prepared.xml, facts, hidden, {g: sizes[g] for g in kept if g in sizes})
+        xml = pin_inertia(xml, facts, hidden, {g: sizes[g] for g in kept if g in sizes})
         mj = compile_mjcf(xml=xml)
         facts = describe(mj)
-    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes))
+    heading, why = _forward(facts, dim, forward, problems)
+    if problems:
+        raise ModelError(source, problems)
+    if not np.allclose(heading, X):
+        notes.append(
+            f"forward is the model's {_direction(heading)} ({why}): turned to face +x, "
+            "aquagait's forward, so positions in its swims are in the turned frame"
+        )
+        mj = compile_mjcf(xml=turn_root(xml, facts, _turning(heading)))
+        facts = describe(mj)
+    forward = tuple(float(v) for v in heading)
+    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward)
 
 
 # --- checks on the compiled model ---------------------------------------------
@@ -424,10 +451,60 @@ def _thickened_note(facts: CompiledFacts, minimum: float, sizes: dict, meshes: l
     return "; ".join(said)
 
 
+def _forward(facts: CompiledFacts, dim: int, given, problems: list[str]):
+    """The head's direction in the file's frame (``Model.forward``) and why."""
+    if given is not None:
+        heading = np.zeros(3)
+        heading[: len(given)] = given
+        if dim == 2 and heading[2] != 0:
+            problems.append(
+                f"forward {list(given)} leaves the plane of a planar model: give [x, y]"
+            )
+        if not np.linalg.norm(heading) > 0:
+            problems.append("forward [0, 0, 0] has no direction: give the way the head points")
+            return X, ""
+        return heading / np.linalg.norm(heading), "as the side-car's forward says"
+    box = facts.geom_box
+    middle = (box[:, 0].min(axis=0) + box[:, 1].max(axis=0)) / 2
+    mine = facts.geom_link == 0
+    head = (box[mine, 0].min(axis=0) + box[mine, 1].max(axis=0)) / 2
+    offset = (head - middle)[:dim]
+    length = (box[:, 1].max(axis=0) - box[:, 0].min(axis=0)).max()
+    axis = int(np.argmax(np.abs(offset)))
+    if abs(offset[axis]) < HEAD_END * length:
+        return X, ""
+    heading = np.zeros(3)
+    heading[axis] = np.sign(offset[axis])
+    return heading, f"its root link {facts.link_names[0]!r} lies towards that end"
+
+
+def _direction(v) -> str:
+    """'+y' for an axis, else the vector."""
+    for i, name in enumerate("xyz"):
+        if abs(abs(v[i]) - 1) < 1e-12:
+            return ("+" if v[i] > 0 else "-") + name
+    return "[" + ", ".join(f"{c:.3g}" for c in v) + "]"
+
+
+def _turning(heading) -> np.ndarray:
+    """The rotation that takes ``heading`` (a unit (3,)) to +x: about z when it lies in
+    the x-y plane (a planar creature stays in its plane), else the shortest one."""
+    h = np.asarray(heading, dtype=float)
+    if abs(h[2]) < 1e-12 or np.allclose(h, -X):
+        angle = -np.arctan2(h[1], h[0])
+        c, s = np.cos(angle), np.sin(angle)
+        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    axis = np.cross(h, X)
+    sin, cos = np.linalg.norm(axis), h @ X
+    k = axis / sin
+    cross = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + sin * cross + (1 - cos) * cross @ cross
+
+
 # --- the description ------------------------------------------------------------
 
 
-def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes) -> Model:
+def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes, forward) -> Model:
     joints = tuple(_joint_record(facts, j, ranges.get(j)) for j in range(len(facts.joint_names)))
     dof_names = [""] * facts.nv
     for joint in joints:
@@ -459,6 +536,7 @@ def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes) ->
         body_length=float(extent.max()),
         qpos0=facts.qpos0,
         notes=notes,
+        forward=forward,
     )
 
 

@@ -26,6 +26,11 @@ geom thinner than a given minimum across any of its sides gets that side
 widened to the minimum (its other sides, its centre and its axes kept); its
 link's mass and inertia stay MuJoCo's, since they are pinned. Meshes are
 not thickened (a note names them).
+
+Last, a creature whose head points elsewhere than +x, the direction every
+objective, metric and manoeuvre takes as forward, is turned as a whole to
+face +x (``turn_root``): its root body's frame is rotated, and a planar root's
+slide and hinge axes are rewritten so that they stay along world x, y and z.
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from aquagait.body.rotations import quat_from_matrix
 from aquagait.body.scenery import kids
 
 HIDDEN_GROUP = 3
@@ -161,3 +167,35 @@ def pin_inertia(xml: str, facts, drop=(), sizes=None) -> str:
 
 def _numbers(values) -> str:
     return " ".join(repr(float(v)) for v in values)
+
+
+ORIENTATION = ("quat", "euler", "axisangle", "xyaxes", "zaxis")
+"""The attributes that can orient a body."""
+
+
+def turn_root(xml: str, facts, rot) -> str:
+    """The MJCF ``xml`` with its creature turned by ``rot`` about the world origin.
+
+    Args:
+        xml: the MJCF text MuJoCo compiled into ``facts``.
+        facts: its ``CompiledFacts`` (the root's pose and joint axes at qpos0).
+        rot: (3, 3) the rotation to apply.
+    Returns:
+        MJCF text whose root body sits at ``rot @ pos``, turned by ``rot``, with
+        its slide and hinge joints along the same world axes as before.
+    """
+    root = ET.fromstring(xml)
+    body = root.find("worldbody").find("body")
+    if body is None:
+        body = next(root.find("worldbody").iter("body"))
+    rot = np.asarray(rot, dtype=float)
+    turned = rot @ facts.link_rot[0]
+    for attr in ORIENTATION:
+        body.attrib.pop(attr, None)
+    body.set("pos", _numbers(rot @ facts.link_pos[0]))
+    body.set("quat", _numbers(quat_from_matrix(turned)))
+    axes = [j for j in range(len(facts.joint_kind)) if facts.joint_link[j] == 0]
+    for j, joint in zip(axes, kids(body, "joint"), strict=False):
+        if facts.joint_kind[j] in ("slide", "hinge"):
+            joint.set("axis", _numbers(turned.T @ facts.joint_axis[j]))
+    return ET.tostring(root, encoding="unicode")

@@ -24,6 +24,7 @@ tail hinges, mirrored legs optimized after the tail):
       "grid": {"resolution": [96, 48, 48], "cell_size": 0.004},
       "energy_bound": 0.02,
       "energy_weight": 1.0,
+      "forward": [1, 0, 0],
       "gaits": {
         "straight": {
           "params": {
@@ -78,6 +79,12 @@ The entries (units: rad, s, m, J; the paper's gait is
   than a metre of swimming, needs more: the frog has 20 (at 1 its search spent
   4.1x the bound for 2.7x the distance). ``aquagait optimize --energy-weight``
   overrides it.
+- ``forward``: the direction the creature's head points, in the MJCF's frame
+  ([x, y] or [x, y, z]; in a planar model, in its plane). By default the
+  model's axis from its body's middle towards its root link, when the root
+  clearly lies towards one end, else +x (``aquagait.body.model``). A creature
+  facing elsewhere than +x is turned on loading to face +x, the direction
+  every objective, metric and manoeuvre takes as forward.
 - ``gaits``: shipped gaits by name; ``straight`` is the creature's default
   gait; ``turn-left``, ``turn-right``, ``pitch-up`` and ``pitch-down`` are its
   learned manoeuvres (``aquagait optimize --maneuver``, followed by
@@ -147,6 +154,7 @@ class Metadata:
         grid: the ``grid`` entries given (resolution as a tuple of ints).
         energy_bound: [J], or None.
         energy_weight: [1/J], or None.
+        forward: (3,) the direction the head points in the MJCF's frame, or None.
         gaits: shipped gaits by name: ``{"params": dict | list, "provenance": dict}``.
     """
 
@@ -157,6 +165,7 @@ class Metadata:
     grid: Mapping = field(default_factory=dict)
     energy_bound: float | None = None
     energy_weight: float | None = None
+    forward: tuple[float, float, float] | None = None
     gaits: Mapping = field(default_factory=dict)
 
 

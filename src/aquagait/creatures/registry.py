@@ -127,9 +127,10 @@ def load(path, thicken: bool = True) -> Creature:
     key = (str(mjcf), thicken, *times)
     if key not in _LOADED:
         meta = read_metadata(side) if side.is_file() else Metadata()
-        creature = build_creature(load_model(mjcf), meta, name=mjcf.stem)
+        creature = build_creature(load_model(mjcf, forward=meta.forward), meta, name=mjcf.stem)
         if thicken:
-            model = load_model(mjcf, thicken_to=THICKEN_CELLS * creature.cell_size)
+            h = creature.cell_size
+            model = load_model(mjcf, thicken_to=THICKEN_CELLS * h, forward=meta.forward)
             if model.notes != creature.model.notes:  # something was thickened
                 creature = build_creature(model, meta, name=mjcf.stem)
         else:

@@ -15,7 +15,7 @@ import math
 from aquagait.control.gait import KINDS
 
 KEYS = {
-    "": ("description", "gait", "pd", "grid", "energy_bound", "energy_weight", "gaits"),
+    "": ("description", "gait", "pd", "grid", "energy_bound", "energy_weight", "forward", "gaits"),
     "gait": (
         "dofs",
         "free",
@@ -253,7 +253,8 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
 
     Returns:
         ``{"description": str, "gait": {...}, "pd": {...}, "grid": {...},
-        "energy_bound": float, "energy_weight": float, "gaits": {...}}`` with only the entries given
+        "energy_bound": float, "energy_weight": float, "forward": (x, y, z), "gaits": {...}}``
+        with only the entries given
         (lists of names as tuples, bounds as (lo, hi) pairs), and the list of
         problems (empty: the shapes and types are right).
     """
@@ -271,5 +272,21 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
         out["energy_bound"] = check.number(top["energy_bound"], "energy_bound", 0, True, "J")
     if "energy_weight" in top:
         out["energy_weight"] = check.number(top["energy_weight"], "energy_weight", lower=0)
+    if "forward" in top:
+        out["forward"] = _forward(check, top["forward"])
     out["gaits"] = shipped(check, top.get("gaits", {}))
     return out, check.problems
+
+
+def _forward(check: Checker, value) -> tuple[float, ...] | None:
+    """A direction in the MJCF's frame: two or three numbers, not all zero."""
+    if not isinstance(value, list) or len(value) not in (2, 3):
+        check.add("forward", f"must be a list [x, y] or [x, y, z], got {kind(value)}")
+        return None
+    numbers = [check.number(v, f"forward[{i}]") for i, v in enumerate(value)]
+    if any(n is None for n in numbers):
+        return None
+    if not any(numbers):
+        check.add("forward", "must not be all zeros: it is the direction the head points")
+        return None
+    return tuple(numbers) + (0.0,) * (3 - len(numbers))

@@ -1,4 +1,5 @@
-"""A file's thin parts are thickened for the fluid by default; --no-thicken keeps them."""
+"""A creature from a file: thin parts thickened for the fluid by default (--no-thicken keeps
+them), and the side-car's say on which way is forward."""
 
 import numpy as np
 import pytest
@@ -62,3 +63,14 @@ def test_check_says_what_was_thickened_and_no_thicken_keeps_it(thin, tmp_path, c
     assert main(argv) == 0
     out = capsys.readouterr().out
     assert "thickened" not in out and "thin.xml" in out
+
+
+def test_the_side_car_turns_a_creature_to_face_its_forward(thin):
+    thin.with_name("thin.aquagait.json").write_text('{"forward": [0, -1]}')
+    creature = ag.creatures.load(thin)
+    assert creature.model.forward == (0.0, -1.0, 0.0)
+    tail = describe(creature.model.mj).link_pos[1]  # at -x as written: turned to -y
+    np.testing.assert_allclose(tail, [0.0, -0.04, 0.0], atol=1e-12)
+    thin.with_name("thin.aquagait.json").write_text('{"forward": [0, 0, 0]}')
+    with pytest.raises(ag.creatures.CreatureError, match="forward: must not be all zeros"):
+        ag.creatures.load(thin)
