@@ -11,6 +11,7 @@ import pytest
 import aquagait
 from aquagait.body import Dynamics, ModelError, load_model
 from aquagait.body.dynamics import compile_mjcf, describe
+from aquagait.body.geometry import link_volumes
 
 MODELS = Path(__file__).parent / "models"
 BAD = Path(__file__).parent / "bad_models"
@@ -73,22 +74,23 @@ def test_what_is_ignored_leaves_the_same_body_as_the_bare_model():
     )  # armature would have added to the diagonal
 
 
-def test_the_swimmer_as_written_for_another_project_gets_all_four_fixes_at_once():
-    path = MODELS / "swimmer_as_written.xml"
-    with pytest.raises(ModelError) as err:
-        load_model(path)
-    problems = err.value.problems
-    assert len(problems) == 4 and str(err.value).startswith(f"{path} has 4 problems:\n  - ")
-    assert problems[0].startswith(
-        'a planar (2D) model must declare its prism depth: <custom><numeric name="aquagait_depth"'
-    )
-    geoms = [
-        "'head' in link 'head' is an ellipsoid",
-        "'segment_0' in link 'segment_0' is a capsule",
-        "'segment_1' in link 'segment_1' is a capsule",
-    ]
-    for problem, geom in zip(problems[1:], geoms, strict=True):
-        assert problem.startswith(f"the model is planar (2D) but geom {geom}; make it a prism")
+def test_the_swimmer_as_written_for_another_project_swims_its_cut_by_the_plane():
+    """Capsules, an ellipsoid head and no depth: each geom becomes its cross-section in the
+    plane of motion, a prism whose depth keeps the body's 3D volume; masses stay MuJoCo's."""
+    swimmer = load_model(MODELS / "swimmer_as_written.xml")
+    r, length = 0.01, 0.1
+    head = np.pi * 0.04 * 0.02  # the ellipsoid's cut: an ellipse
+    segment = 2 * r * length + np.pi * r**2  # a capsule lying in the plane: a stadium
+    volumes = np.array([4 / 3 * np.pi * 0.04 * 0.02 * 0.017,
+                        *[np.pi * r**2 * (length + 4 / 3 * r)] * 2])  # fmt: skip
+    depth = volumes.sum() / (head + 2 * segment)
+    assert swimmer.dim == 2
+    assert swimmer.depth == pytest.approx(depth, rel=2e-3)  # the outlines are 128-gons
+    np.testing.assert_allclose(swimmer.link_mass, 1000 * volumes, rtol=1e-9)
+    np.testing.assert_allclose(link_volumes(swimmer), swimmer.depth * np.array(
+        [head, segment, segment]), rtol=2e-3)  # fmt: skip
+    assert link_volumes(swimmer).sum() == pytest.approx(volumes.sum(), rel=FLOAT32)
+    assert any(n.startswith("planar with 3D shapes") for n in swimmer.notes)
 
 
 def test_a_3d_model_with_ball_joints_and_a_mesh_file_loads_from_any_directory(

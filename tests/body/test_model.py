@@ -9,6 +9,7 @@ import pytest
 
 import aquagait
 from aquagait.body import ModelError, load_model
+from aquagait.body.geometry import link_volumes
 
 CREATURES = Path(aquagait.__file__).resolve().parent / "creatures"
 BAD = sorted((Path(__file__).parent / "bad_models").glob("*.xml"))
@@ -43,7 +44,28 @@ def test_each_bad_model_gets_its_clear_error(path):
 
 
 def test_the_bad_corpus_covers_every_check():
-    assert len(BAD) >= 30
+    assert len(BAD) >= 25  # what MuJoCo reads (masses, ranges, 3D shapes in a plane) loads now
+
+
+CUT = Path(__file__).parent / "models" / "planar_cut"
+
+
+@pytest.mark.parametrize(
+    "name, area",
+    [
+        ("planar_box_wrong_depth", 0.2 * 0.04),  # a slab 10 cm thick in a 4 cm prism
+        ("planar_capsule", 0.2 * 0.04 + np.pi * 0.02**2),  # a stadium
+        ("planar_mesh_not_prism", 0.2 * 0.1 / 2),  # the wedge's cut at z = 0: a triangle
+        ("planar_tilted_cylinder", 0.04 * 0.04),  # lying in the plane: a square
+        ("planar_no_depth", 0.2 * 0.04),  # a box prism already: its thickness is the depth
+    ],
+)
+def test_a_planar_model_of_3d_shapes_swims_their_cut_by_its_plane(name, area):
+    model = load_model(CUT / f"{name}.xml")
+    assert (model.dim, model.depth) == (2, pytest.approx(0.04))
+    assert link_volumes(model)[0] == pytest.approx(area * 0.04, rel=2e-3)  # 128-gon outlines
+    said = "planar with 3D shapes" if name != "planar_no_depth" else "prism depth 40 mm"
+    assert any(note.startswith(said) for note in model.notes)
 
 
 def test_missing_file_is_named():

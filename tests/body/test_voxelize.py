@@ -241,7 +241,8 @@ def test_overlapping_links_split_where_they_are_equally_deep():
             '<geom type="box" size=".05 .05 .02"/><body name="b" pos=".06 0 0">'
             '<joint type="hinge" axis="0 0 1" range="-90 90"/>'
             '<geom type="box" size=".05 .05 .02"/></body>'
-        )
+        ),
+        forward=(1.0, 0.0),  # its root is at the -x end, where a fish's head would be
     )
     h = 0.005
     grid = Grid((40, 40), h, (-0.0999, -0.1002))

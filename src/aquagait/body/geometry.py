@@ -18,13 +18,13 @@ of poses.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from aquagait.body.dynamics import Dynamics, describe, mesh_faces
 from aquagait.body.model import Model
+from aquagait.body.shape import geom_volume
 
 
 @dataclass(frozen=True)
@@ -153,22 +153,6 @@ def link_volumes(model) -> np.ndarray:
     facts, faces = describe(model.mj), mesh_faces(model.mj)
     out = np.zeros(len(facts.link_names))
     for g, kind in enumerate(facts.geom_kind):
-        out[facts.geom_link[g]] += _geom_volume(kind, facts.geom_size[g],
+        out[facts.geom_link[g]] += geom_volume(kind, facts.geom_size[g],
                                                 facts.geom_vertices[g], faces[g])  # fmt: skip
     return out
-
-
-def _geom_volume(kind: str, size, vertices, faces) -> float:
-    """The volume of one MuJoCo geom [m^3]."""
-    r = size[0]
-    if kind == "mesh":  # divergence theorem; faces wind outward
-        a, b, c = (vertices[faces[:, i]] for i in range(3))
-        return abs(float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum())) / 6
-    volumes = {
-        "box": lambda: 8 * size[0] * size[1] * size[2],
-        "sphere": lambda: 4 / 3 * math.pi * r**3,
-        "ellipsoid": lambda: 4 / 3 * math.pi * size[0] * size[1] * size[2],
-        "capsule": lambda: math.pi * r**2 * (2 * size[1] + 4 / 3 * r),
-        "cylinder": lambda: math.pi * r**2 * 2 * size[1],
-    }
-    return float(volumes[kind]())

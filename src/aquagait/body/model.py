@@ -37,10 +37,12 @@ from pathlib import Path
 
 import numpy as np
 
-from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe
+from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe, mesh_faces
+from aquagait.body.flatten import area, outlines, prism_depth, prism_xml
 from aquagait.body.mjcf import ModelError, prepare_mjcf, read_mjcf
 from aquagait.body.reshape import inertia_only, pin_inertia, thin_geoms, turn_root
 from aquagait.body.scenery import listing
+from aquagait.body.shape import geom_volume
 
 DEPTH_NAME = "aquagait_depth"
 ACTUATED_KINDS = ("hinge", "ball")
@@ -48,10 +50,18 @@ DEFAULT_RANGE = np.radians(60.0)
 """A joint's gait bound [rad] when the model gives it no range and no position servo."""
 
 HEAD_END = 0.1
-"""The root link's centre must lie this many body lengths off the body's middle, along one
-axis, for that end to be taken as the head (``Model.forward``); else the head is at +x."""
+"""For its end to be taken as the head (``Model.forward``), the root link's centre must lie
+this many body lengths off the body's middle along the body's longest side, ..."""
+
+ELONGATED = 1.5
+"""... and that side be this many times the next longest (a fish, an eel, a swimmer; a
+turtle, a frog or a ray, whose root is the middle of a wide body, faces +x unless its
+side-car says otherwise)."""
 
 X = np.array([1.0, 0.0, 0.0])
+
+FLATTEN = -1.0
+"""``_check_planar``'s depth for a planar model whose geoms are to be cut by its plane."""
 
 
 @dataclass(frozen=True)
@@ -106,9 +116,9 @@ class Model:
             (a floor, lights, actuators, armature, ...); empty for a model that
             describes only the creature.
         forward: (3,) the direction its head points in the file's frame: given
-            (the side-car's ``forward``), or the model's axis from the middle of
-            its body towards its root link when the root lies ``HEAD_END`` body
-            lengths or more towards one end, else +x. The model is turned so
+            (the side-car's ``forward``), or, for an ``ELONGATED`` body whose root
+            link lies ``HEAD_END`` body lengths or more towards one end of its
+            longest side, the way to that end; else +x. The model is turned so
             that this is +x, the direction aquagait swims.
     """
 
@@ -200,10 +210,17 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) 
         notes.append(_thickened_note(facts, thicken_to, {g: sizes[g] for g in kept if g in sizes},
                                      [g for g in meshes if g in kept]))  # fmt: skip
     xml = prepared.xml
-    if hidden or sizes:
+    if hidden or sizes or depth == FLATTEN:
         xml = pin_inertia(xml, facts, hidden, {g: sizes[g] for g in kept if g in sizes})
         mj = compile_mjcf(xml=xml)
         facts = describe(mj)
+    if depth == FLATTEN:
+        xml, depth, note = _flattened(xml, mj, facts, root, _depth(facts, dim, []))
+        notes.append(note)
+        mj = compile_mjcf(xml=xml)
+        facts = describe(mj)
+        if _check_planar(facts, root, depth, problems, []) != depth or problems:
+            raise ModelError(source, problems or ["its cut by the plane of motion is no prism"])
     heading, why = _forward(facts, dim, forward, problems)
     if problems:
         raise ModelError(source, problems)
@@ -223,7 +240,10 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) 
 
 
 def _check_compiled(facts: CompiledFacts, prepared, problems: list[str], notes: list[str]):
-    """(root link, dimension, depth, gait ranges); a part that cannot be known is None."""
+    """(root link, dimension, depth, gait ranges); a part that cannot be known is None.
+
+    A planar model's depth is ``FLATTEN`` when its geoms are to be cut by the plane of
+    motion (``_check_planar``)."""
     root = _check_tree(facts, problems)
     if root is None:
         return None, None, None, None
@@ -233,7 +253,7 @@ def _check_compiled(facts: CompiledFacts, prepared, problems: list[str], notes: 
         return root, None, None, ranges
     depth = _depth(facts, dim, problems)
     if dim == 2:
-        _check_planar(facts, root, depth, problems)
+        depth = _check_planar(facts, root, depth, problems, notes)
     return root, dim, depth, ranges
 
 
@@ -356,12 +376,7 @@ def _depth(facts: CompiledFacts, dim: int, problems: list[str]) -> float | None:
                 "the depth belongs to planar models only: remove it"
             )
         return None
-    example = f'<custom><numeric name="{DEPTH_NAME}" data="0.05"/></custom>'
     if declared is None:
-        problems.append(
-            f"a planar (2D) model must declare its prism depth: {example} "
-            "(every link is a prism this thick along z [m])"
-        )
         return None
     if declared.size != 1 or not declared[0] > 0:
         problems.append(
@@ -371,8 +386,14 @@ def _depth(facts: CompiledFacts, dim: int, problems: list[str]) -> float | None:
     return float(declared[0])
 
 
-def _check_planar(facts: CompiledFacts, root: int, depth: float | None, problems) -> None:
-    """Joints about z, links in z = 0, prism geoms (their thickness when ``depth`` is known)."""
+def _check_planar(facts: CompiledFacts, root: int, depth, problems, notes) -> float | None:
+    """Joints about z and links in the root's plane; the prism depth, or ``FLATTEN``.
+
+    A model whose geoms are all z-prisms at z = 0 (box, cylinder along z, mesh
+    with its vertices on two faces) of the declared depth, or of one thickness
+    when none is declared, swims as it is; any other is cut by its plane of
+    motion (``aquagait.body.flatten``) and ``FLATTEN`` is returned.
+    """
     tol = 1e-6 * max(depth or 0.0, 1e-3)
     for j in np.flatnonzero(facts.joint_link != root):
         kind = facts.joint_kind[j]
@@ -383,20 +404,34 @@ def _check_planar(facts: CompiledFacts, root: int, depth: float | None, problems
                 f"the model is planar (2D) but {_joint(facts, j)} is not a hinge about z; "
                 'a planar creature bends only in the x-y plane: make it a hinge with axis="0 0 1"'
             )
-    for k in np.flatnonzero(np.abs(facts.link_pos[:, 2]) > tol):
+    plane = facts.link_pos[root, 2]
+    for k in np.flatnonzero(np.abs(facts.link_pos[:, 2] - plane) > tol):
         problems.append(
-            f"the model is planar (2D) but {_link(facts, k)} is at z = "
-            f"{facts.link_pos[k, 2]:g}; every link must lie in z = 0"
+            f"the model is planar (2D) but {_link(facts, k)} is at z = {facts.link_pos[k, 2]:g}, "
+            f"off the plane its root moves in (z = {plane:g}); every link must lie in that plane"
         )
-    thick = "depth" if depth is None else f"{depth:g} m"
-    for g in range(len(facts.geom_kind)):
-        problem = _prism_problem(facts, g, depth, tol)
-        if problem:
-            problems.append(
-                f"the model is planar (2D) but {_geom(facts, g)} {problem}; make it a prism "
-                f"along z, {thick} thick and centred on z = 0: a box, a cylinder along z, or "
-                "a mesh with its vertices on the two faces z = +-thickness/2"
-            )
+    prisms = all(_prism_problem(facts, g, depth, tol) is None for g in range(len(facts.geom_kind)))
+    if not prisms or abs(plane) > tol:
+        return FLATTEN
+    if depth is None:
+        thick = {round(t / tol) for t in _prism_thickness(facts)}
+        if len(thick) != 1:
+            return FLATTEN
+        depth = float(_prism_thickness(facts)[0])
+        notes.append(f"prism depth {depth * 1e3:.4g} mm: its geoms' thickness along z")
+    return depth
+
+
+def _prism_thickness(facts: CompiledFacts) -> list[float]:
+    """Each z-prism geom's thickness along z [m]."""
+    out = []
+    for g, kind in enumerate(facts.geom_kind):
+        if kind == "mesh":
+            z = facts.geom_vertices[g][:, 2]
+            out.append(float(z.max() - z.min()))
+        else:
+            out.append(2 * float(facts.geom_size[g][2 if kind == "box" else 1]))
+    return out
 
 
 def _prism_problem(facts: CompiledFacts, g: int, depth, tol: float) -> str | None:
@@ -425,8 +460,9 @@ def _inertia_only_note(facts: CompiledFacts, geoms) -> str:
     links = sorted({_link(facts, facts.geom_link[g]) for g in geoms})
     what = f"geom {labels[0]}" if len(labels) == 1 else f"{len(labels)} geoms ({listing(labels)})"
     verb = "gives" if len(labels) == 1 else "give"
+    where = listing(links) if len(links) <= 2 else f"{len(links)} links"
     return (
-        f"{what} of {listing(links)}, hidden (group >= 3 or alpha 0), only {verb} mass: the "
+        f"{what} of {where}, hidden (group >= 3 or alpha 0), only {verb} mass: the "
         "water sees each link's visible geoms (MuJoCo's masses and inertias unchanged)"
     )
 
@@ -465,13 +501,12 @@ def _forward(facts: CompiledFacts, dim: int, given, problems: list[str]):
             return X, ""
         return heading / np.linalg.norm(heading), "as the side-car's forward says"
     box = facts.geom_box
-    middle = (box[:, 0].min(axis=0) + box[:, 1].max(axis=0)) / 2
+    lo, hi = box[:, 0].min(axis=0), box[:, 1].max(axis=0)
     mine = facts.geom_link == 0
-    head = (box[mine, 0].min(axis=0) + box[mine, 1].max(axis=0)) / 2
-    offset = (head - middle)[:dim]
-    length = (box[:, 1].max(axis=0) - box[:, 0].min(axis=0)).max()
-    axis = int(np.argmax(np.abs(offset)))
-    if abs(offset[axis]) < HEAD_END * length:
+    offset = ((box[mine, 0].min(axis=0) + box[mine, 1].max(axis=0)) / 2 - (lo + hi) / 2)[:dim]
+    sides = (hi - lo)[:dim]
+    axis, (second, length) = int(np.argmax(sides)), np.sort(sides)[-2:]
+    if length < ELONGATED * second or abs(offset[axis]) < HEAD_END * length:
         return X, ""
     heading = np.zeros(3)
     heading[axis] = np.sign(offset[axis])
@@ -499,6 +534,38 @@ def _turning(heading) -> np.ndarray:
     k = axis / sin
     cross = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
     return np.eye(3) + sin * cross + (1 - cos) * cross @ cross
+
+
+def _flattened(xml: str, mj, facts: CompiledFacts, root: int, declared):
+    """A planar model's geoms cut by its plane of motion (``aquagait.body.flatten``):
+    the new MJCF text, the prism depth and a note saying what was done."""
+    faces = mesh_faces(mj)
+    plane = float(facts.link_pos[root, 2])
+    shapes = outlines(facts, faces, plane)
+    volumes = np.array([geom_volume(kind, facts.geom_size[g], facts.geom_vertices[g], faces[g])
+                        for g, kind in enumerate(facts.geom_kind)])  # fmt: skip
+    if all(s is None for s in shapes):
+        raise ModelError("the plane its root moves in misses every geom: nothing to swim")
+    depth = declared if declared is not None else prism_depth(volumes, shapes)
+    why = "declared" if declared is not None else "the geoms' volume over their outlines' area"
+    links = len(facts.link_names)
+    prism, solid = np.zeros(links), np.zeros(links)
+    for g, s in enumerate(shapes):
+        if s is not None:
+            prism[facts.geom_link[g]] += area(s) * depth
+            solid[facts.geom_link[g]] += volumes[g]
+    ratio = prism[solid > 0] / solid[solid > 0] - 1
+    names = [repr(n) if n else f"#{g}" for g, n in enumerate(facts.geom_names)]
+    missed = [name for name, s in zip(names, shapes, strict=True) if s is None]
+    note = (
+        f"planar with 3D shapes: each geom is its cross-section by the plane of motion (z = "
+        f"{plane:g}) as a prism {depth * 1e3:.4g} mm deep ({why}; each link's prism volume "
+        f"{ratio.min():+.1%} to {ratio.max():+.1%} of its 3D volume)"
+        + (", moved to z = 0" if plane else "")
+    )
+    if missed:
+        note += f"; the plane misses {listing(missed)}, which shape nothing"
+    return prism_xml(xml, facts, shapes, depth, plane), depth, note
 
 
 # --- the description ------------------------------------------------------------

@@ -48,6 +48,9 @@ HIDDEN_GROUP = 3
 PLACEMENT = ("fromto", "pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "size")
 """The attributes that place and size a geom, replaced when it is rewritten."""
 
+PLAIN_CLASS = "aquagait_plain"
+"""A default class holding only the model's top-level defaults, for rewritten geoms."""
+
 
 def inertia_only(facts) -> list[int]:
     """Indices of the geoms that give mass but no shape (module doc), by link.
@@ -136,20 +139,19 @@ def pin_inertia(xml: str, facts, drop=(), sizes=None) -> str:
         for old in body.findall("inertial"):
             body.remove(old)
         pinned = ET.Element("inertial", {
-            "pos": _numbers(facts.link_ipos[k]),
-            "quat": _numbers(facts.link_iquat[k]),
+            "pos": numbers(facts.link_ipos[k]),
+            "quat": numbers(facts.link_iquat[k]),
             "mass": repr(float(facts.link_mass[k])),
-            "diaginertia": _numbers(facts.link_inertia[k]),
+            "diaginertia": numbers(facts.link_inertia[k]),
         })  # fmt: skip
         body.insert(0, pinned)
     for g, size in (sizes or {}).items():
         _, geom = geoms[g]
-        for placement in PLACEMENT:
-            geom.attrib.pop(placement, None)
+        detach(root, geom, facts, g)
         geom.set("type", facts.geom_kind[g])
-        geom.set("pos", _numbers(facts.geom_local_pos[g]))
-        geom.set("quat", _numbers(facts.geom_local_quat[g]))
-        geom.set("size", _numbers(size))
+        geom.set("pos", numbers(facts.geom_local_pos[g]))
+        geom.set("quat", numbers(facts.geom_local_quat[g]))
+        geom.set("size", numbers(size))
     for g in drop:
         body, geom = geoms[g]
         for holder in body.iter():  # the geom may sit in a <frame>
@@ -165,7 +167,25 @@ def pin_inertia(xml: str, facts, drop=(), sizes=None) -> str:
     return ET.tostring(root, encoding="unicode")
 
 
-def _numbers(values) -> str:
+def detach(root, geom, facts, g: int) -> None:
+    """Free the element of geom ``g`` from its placement and its default class, to be
+    placed anew: a class may carry a ``fromto`` that would override a new frame or type.
+    Its colour and group are kept, written out."""
+    defaults = root.find("default")
+    if defaults is None:
+        defaults = ET.Element("default")
+        root.insert(0, defaults)
+    if not any(d.get("class") == PLAIN_CLASS for d in defaults.findall("default")):
+        ET.SubElement(defaults, "default", {"class": PLAIN_CLASS})
+    for placement in PLACEMENT:
+        geom.attrib.pop(placement, None)
+    geom.set("class", PLAIN_CLASS)
+    geom.set("rgba", numbers(facts.geom_rgba[g]))
+    geom.set("group", str(int(facts.geom_group[g])))
+
+
+def numbers(values) -> str:
+    """Numbers as MJCF writes them: space-separated, each exact (its repr)."""
     return " ".join(repr(float(v)) for v in values)
 
 
@@ -192,10 +212,10 @@ def turn_root(xml: str, facts, rot) -> str:
     turned = rot @ facts.link_rot[0]
     for attr in ORIENTATION:
         body.attrib.pop(attr, None)
-    body.set("pos", _numbers(rot @ facts.link_pos[0]))
-    body.set("quat", _numbers(quat_from_matrix(turned)))
+    body.set("pos", numbers(rot @ facts.link_pos[0]))
+    body.set("quat", numbers(quat_from_matrix(turned)))
     axes = [j for j in range(len(facts.joint_kind)) if facts.joint_link[j] == 0]
     for j, joint in zip(axes, kids(body, "joint"), strict=False):
         if facts.joint_kind[j] in ("slide", "hinge"):
-            joint.set("axis", _numbers(turned.T @ facts.joint_axis[j]))
+            joint.set("axis", numbers(turned.T @ facts.joint_axis[j]))
     return ET.tostring(root, encoding="unicode")

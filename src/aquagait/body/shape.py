@@ -39,6 +39,7 @@ staircase error of voxelizing at cell centres. Samples are stored as float32
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numba
@@ -456,3 +457,19 @@ def link_thickness(shape: BodyShape) -> np.ndarray:
         if phi.size:
             out[k] = max(0.0, -2.0 * float(phi.min()))
     return out
+
+
+def geom_volume(kind: str, size, vertices, faces) -> float:
+    """The volume of one MuJoCo geom [m^3]."""
+    r = size[0]
+    if kind == "mesh":  # divergence theorem; faces wind outward
+        a, b, c = (vertices[faces[:, i]] for i in range(3))
+        return abs(float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum())) / 6
+    volumes = {
+        "box": lambda: 8 * size[0] * size[1] * size[2],
+        "sphere": lambda: 4 / 3 * math.pi * r**3,
+        "ellipsoid": lambda: 4 / 3 * math.pi * size[0] * size[1] * size[2],
+        "capsule": lambda: math.pi * r**2 * (2 * size[1] + 4 / 3 * r),
+        "cylinder": lambda: math.pi * r**2 * 2 * size[1],
+    }
+    return float(volumes[kind]())
