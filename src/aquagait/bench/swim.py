@@ -201,20 +201,12 @@ def compare_advection(repeats: int, out: TextIO) -> list[dict]:
 
     from aquagait.fluid.advection import bfecc, bfecc_previous
 
-    print(f"{'creature':<10}{'grid':>11}{'':>14}{'previous':>10}{'bfecc':>10}{'ratio':>8}",
-          file=out)  # fmt: skip
-    rows = []
-    for name in PAPER_SECONDS_PER_FRAME:
-        fluids = {"previous": dict(advect=bfecc_previous), "bfecc": dict(advect=bfecc)}
-        old, new = _interleaved_swims(name, fluids, repeats).values()
-        row = dict(creature=name, grid=old["grid"], previous=old, bfecc=new,
-                   same_qpos=bool(np.array_equal(old["qpos"], new["qpos"])))  # fmt: skip
-        rows.append(row)
-        for label, key in (("advect ms", "advect"), ("step ms", "step")):
-            _side_by_side(out, name, row["grid"], label, old[key], new[key], old[key] / new[key])
-        print(f"{'':<21}{'same qpos':>14}{'yes' if row['same_qpos'] else 'no':>20}", file=out)
-        out.flush()
-    return rows
+    def same(old, new):
+        same_qpos = bool(np.array_equal(old["qpos"], new["qpos"]))
+        return {"same_qpos": same_qpos}, f"{'same qpos':>14}{'yes' if same_qpos else 'no':>20}"
+
+    fluids = {"previous": dict(advect=bfecc_previous), "bfecc": dict(advect=bfecc)}
+    return _two_fluids(out, repeats, fluids, ADVECT_AND_STEP, extra=same)
 
 
 def compare_precision(repeats: int, out: TextIO) -> list[dict]:
@@ -231,23 +223,13 @@ def compare_precision(repeats: int, out: TextIO) -> list[dict]:
     """
     import numpy as np
 
-    print(f"{'creature':<10}{'grid':>11}{'':>14}{'float64':>10}{'float32':>10}{'ratio':>8}",
-          file=out)  # fmt: skip
-    rows = []
-    for name in PAPER_SECONDS_PER_FRAME:
-        fluids = {"float64": dict(dtype=np.float64), "float32": dict(dtype=np.float32)}
-        double, single = _interleaved_swims(name, fluids, repeats).values()
+    def apart(double, single):
         dim = 2 if len(double["grid"].split("x")) == 2 else 3
-        apart = float(np.linalg.norm(double["qpos"][:dim] - single["qpos"][:dim]))
-        row = dict(creature=name, grid=double["grid"], float64=double, float32=single,
-                   apart=apart)  # fmt: skip
-        rows.append(row)
-        for label, key in (("advect ms", "advect"), ("step ms", "step")):
-            _side_by_side(out, name, row["grid"], label, double[key], single[key],
-                          double[key] / single[key])  # fmt: skip
-        print(f"{'':<21}{'roots apart':>14}{apart:>20.2e} m", file=out)
-        out.flush()
-    return rows
+        metres = float(np.linalg.norm(double["qpos"][:dim] - single["qpos"][:dim]))
+        return {"apart": metres}, f"{'roots apart':>14}{metres:>20.2e} m"
+
+    fluids = {"float64": dict(dtype=np.float64), "float32": dict(dtype=np.float32)}
+    return _two_fluids(out, repeats, fluids, ADVECT_AND_STEP, extra=apart)
 
 
 def compare_boundary(repeats: int, out: TextIO) -> list[dict]:
@@ -264,16 +246,42 @@ def compare_boundary(repeats: int, out: TextIO) -> list[dict]:
     from aquagait.body.subcell import voxelize_subcell
     from aquagait.body.voxelize import voxelize
 
-    print(f"{'creature':<10}{'grid':>11}{'':>14}{'staircase':>10}{'subcell':>10}{'cost':>8}",
-          file=out)  # fmt: skip
+    fluids = {"staircase": dict(boundary=voxelize), "subcell": dict(boundary=voxelize_subcell)}
+    figures = (("voxelize ms", "voxelize"), ("solve ms", "solve"), ("step ms", "step"),
+               ("CG its", "iterations"))  # fmt: skip
+    return _two_fluids(out, repeats, fluids, figures, ratio="cost", cost=True)
+
+
+ADVECT_AND_STEP = (("advect ms", "advect"), ("step ms", "step"))
+
+
+def _two_fluids(out: TextIO, repeats: int, fluids: dict, figures, extra=None, ratio="ratio",
+                cost=False) -> list[dict]:  # fmt: skip
+    """Every library creature swum with each of two Euler fluids, frame about, in one run.
+
+    Args:
+        fluids: two labels, each with its ``EulerFluid`` keyword arguments.
+        figures: (label, key) of the figures printed side by side with their
+            ratio, the first over the second (``cost``: the second over the first).
+        extra: ``extra(first, second) -> (fields, line)``: more fields for the
+            row and a line printed below its figures.
+        ratio: the ratio column's heading.
+    Returns:
+        one dict per creature: its name, grid, each fluid's figures by label, and
+        ``extra``'s fields.
+    """
+    (a, b) = fluids
+    print(f"{'creature':<10}{'grid':>11}{'':>14}{a:>10}{b:>10}{ratio:>8}", file=out)
     rows = []
     for name in PAPER_SECONDS_PER_FRAME:
-        fluids = {"staircase": dict(boundary=voxelize), "subcell": dict(boundary=voxelize_subcell)}
-        old, new = _interleaved_swims(name, fluids, repeats).values()
-        rows.append(dict(creature=name, grid=old["grid"], staircase=old, subcell=new))
-        for label, key in (("voxelize ms", "voxelize"), ("solve ms", "solve"),
-                           ("step ms", "step"), ("CG its", "iterations")):  # fmt: skip
-            _side_by_side(out, name, old["grid"], label, old[key], new[key], new[key] / old[key])
+        first, second = _interleaved_swims(name, fluids, repeats).values()
+        fields, line = extra(first, second) if extra else ({}, None)
+        rows.append(dict(creature=name, grid=first["grid"], **{a: first, b: second}, **fields))
+        for label, key in figures:
+            x, y = first[key], second[key]
+            _side_by_side(out, name, first["grid"], label, x, y, y / x if cost else x / y)
+        if line:
+            print(f"{'':<21}{line}", file=out)
         out.flush()
     return rows
 
