@@ -73,7 +73,9 @@ class Weights:
 
 def root_displacement(model: Model, traj: Trajectory) -> np.ndarray:
     """The root link's displacement from the first to the last frame, (dim,) [m]."""
-    position = traj.qpos[:, : model.dim]
+    held = 2 if model.planar else model.dim  # a planar root's qpos: x, y, then its heading
+    position = np.zeros((len(traj.qpos), model.dim))
+    position[:, :held] = traj.qpos[:, :held]
     return position[-1] - position[0]
 
 
@@ -97,16 +99,21 @@ TURN = np.pi / 2
 between facing +x and its desired direction ``d``."""
 
 
-def maneuver_goal(name: str, dim: int) -> tuple[np.ndarray, np.ndarray | None]:
+def maneuver_goal(
+    name: str, dim: int, planar: bool | None = None
+) -> tuple[np.ndarray, np.ndarray | None]:
     """``(d, r)`` of the manoeuvre ``name`` in ``dim`` dimensions (``MANEUVERS``).
 
+    ``planar``: the creature's root moves in the x-y plane (default: in 2D only).
+
     Raises:
-        ValueError: an unknown manoeuvre, or a pitch asked of a 2D creature.
+        ValueError: an unknown manoeuvre, or a pitch asked of a planar creature.
     """
     if name not in MANEUVERS:
         raise ValueError(f"unknown manoeuvre {name!r}; manoeuvres: {', '.join(MANEUVERS)}")
-    if dim == 2 and name.startswith("pitch"):
-        raise ValueError(f"a 2D creature turns in its plane; {name!r} is for 3D creatures")
+    if (dim == 2 if planar is None else planar) and name.startswith("pitch"):
+        what = "a 2D creature" if dim == 2 else "a creature held to its plane"
+        raise ValueError(f"{what} turns in its plane; {name!r} is for free 3D creatures")
     direction, axis = MANEUVERS[name]
     d = _unit(direction[:dim], dim)
     return d, None if axis is None else np.asarray(axis, dtype=float)
@@ -122,7 +129,8 @@ def rotation_vector(model: Model, traj: Trajectory, period: float | None = None)
     with the moment of the beat at which the run ends, which a search then
     tunes through the gait's common phase instead of swimming straighter.)
 
-    2D: ``(0, 0, dtheta)``, the planar root's hinge angle change; 3D: the
+    A planar root (2D, or 3D held to its plane): ``(0, 0, dtheta)``, its hinge
+    angle's change; a free root: the
     exponential map of ``q_end q_start^-1``, ``q_end`` the chordal mean of the
     last cycle's orientations.
     """
@@ -130,7 +138,7 @@ def rotation_vector(model: Model, traj: Trajectory, period: float | None = None)
         last = np.array([len(traj.time) - 1])
     else:  # one cycle's frames, each phase of the beat once
         last = np.flatnonzero(traj.time > traj.time[-1] - period + 1e-9 * period)
-    if model.dim == 2:
+    if model.planar:
         return np.array([0.0, 0.0, traj.qpos[last, 2].mean() - traj.qpos[0, 2]])
     quats = traj.qpos[last, 3:7]
     quats = quats * np.where(quats @ quats[-1] < 0, -1.0, 1.0)[:, None]  # one hemisphere

@@ -4,7 +4,8 @@ a one-generation search, without edits (issue 31).
 Two small models in the control suites' styles, written for these tests: a 3D fish modelled
 head along +y with its mass on a hidden box, massless shape geoms, ranges switched off, a
 joint bounded only by its position servo and 2 mm fins; and a planar swimmer of capsules
-and an ellipsoid head, 5 cm above a floor, its nose at -y.
+and an ellipsoid head, 5 cm above a floor, its nose at -y, swum in the 2D fluid (its cut by
+the plane) and, by its side-car, in the 3D fluid held to its plane.
 """
 
 import json
@@ -78,16 +79,21 @@ SWIMMER = """<mujoco model="suite swimmer">
 </mujoco>"""
 
 CASES = {
-    "fish": (FISH, ["--resolution", "56", "28", "32", "--cell-size", "0.005"]),
-    "swimmer": (SWIMMER, ["--resolution", "80", "40", "--cell-size", "0.008"]),
-}
+    "fish": (FISH, ["--resolution", "56", "28", "32", "--cell-size", "0.005"], None),
+    "swimmer": (SWIMMER, ["--resolution", "80", "40", "--cell-size", "0.008"], None),
+    # the same swimmer in the 3D fluid, its root held to its plane
+    "swimmer3d": (SWIMMER, ["--resolution", "48", "24", "24", "--cell-size", "0.012"],
+                  '{"planar_fluid": "3d"}'),
+}  # fmt: skip
 
 
 @pytest.fixture(params=list(CASES))
 def written_elsewhere(request, tmp_path):
-    text, grid = CASES[request.param]
+    text, grid, sidecar = CASES[request.param]
     path = tmp_path / f"{request.param}.xml"
     path.write_text(text)
+    if sidecar:
+        path.with_name(f"{request.param}.aquagait.json").write_text(sidecar)
     return path, grid
 
 
@@ -100,8 +106,10 @@ def test_check_reads_it_as_mujoco_does(written_elsewhere, tmp_path, capsys):
     if path.stem == "fish":
         assert "switched off" in out and "'tail2' -0.8 to 0.8 rad" in out
         assert "thickened for the fluid" in out
-    else:
+    elif path.stem == "swimmer":
         assert "planar with 3D shapes" in out and "moved to z = 0" in out
+    else:
+        assert "held to its plane in the 3D fluid" in out and "3D;" in out
 
 
 def test_it_swims_head_first(written_elsewhere, tmp_path):

@@ -213,3 +213,22 @@ def test_the_library_faces_plus_x_as_written(name):
     model = ag.creatures.get(name).model
     assert model.forward == (1.0, 0.0, 0.0)
     assert not any(note.startswith("forward") for note in model.notes)
+
+
+def test_a_planar_model_can_swim_in_3d_held_to_its_plane():
+    from aquagait import objectives
+    from aquagait.sim import Trajectory
+
+    held, flat = load_model(PLANAR, planar_fluid="3d"), load_model(PLANAR)
+    assert (held.dim, held.planar, held.depth, len(held.root_dofs)) == (3, True, None, 3)
+    assert (flat.dim, flat.planar) == (2, True)
+    np.testing.assert_allclose(held.link_mass, flat.link_mass, rtol=1e-12)
+    assert any("held to the plane" in note for note in held.notes)
+    with pytest.raises(ValueError, match="held to its plane turns in its plane"):
+        objectives.maneuver_goal("pitch-up", 3, planar=True)
+    qpos = np.tile(held.qpos0, (2, 1))
+    qpos[1, :3] = [0.1, -0.02, 0.3]  # x, y and the heading
+    zeros = np.zeros((2, held.nv))
+    traj = Trajectory(np.array([0.0, 1.0]), qpos, zeros, zeros, zeros, dt=0.01, fps=1.0)
+    np.testing.assert_allclose(objectives.root_displacement(held, traj), [0.1, -0.02, 0.0])
+    np.testing.assert_allclose(objectives.rotation_vector(held, traj), [0.0, 0.0, 0.3])

@@ -266,7 +266,9 @@ def _thinnest(links: list[dict]) -> dict | None:
 
 def _root(model) -> dict:
     root = [model.dof_names[d] for d in model.root_dofs]
-    kind = "planar: slide x, slide y, hinge z" if model.dim == 2 else "free joint"
+    kind = "planar: slide x, slide y, hinge z" if model.planar else "free joint"
+    if model.planar and model.dim == 3:
+        kind += ", held to its plane in the 3D fluid"
     return {"kind": kind, "dofs": root}
 
 

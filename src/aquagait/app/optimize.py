@@ -275,7 +275,7 @@ def prepare_optimization(
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     try:
-        direction, axis = objectives.maneuver_goal(maneuver, creature.dim)
+        direction, axis = objectives.maneuver_goal(maneuver, creature.dim, creature.model.planar)
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     gait = creature.spec(maneuver)

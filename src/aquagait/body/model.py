@@ -60,6 +60,9 @@ side-car says otherwise)."""
 
 X = np.array([1.0, 0.0, 0.0])
 
+PLANAR_FLUIDS = ("2d", "3d")
+"""Where a planar model swims (``load_model``'s ``planar_fluid``)."""
+
 FLATTEN = -1.0
 """``_check_planar``'s depth for a planar model whose geoms are to be cut by its plane."""
 
@@ -120,6 +123,9 @@ class Model:
             link lies ``HEAD_END`` body lengths or more towards one end of its
             longest side, the way to that end; else +x. The model is turned so
             that this is +x, the direction aquagait swims.
+        planar: its root moves in the x-y plane (slide x, slide y, hinge z):
+            every 2D model, and a planar model swum in the 3D fluid with its
+            root held to its plane (``load_model``'s ``planar_fluid='3d'``).
     """
 
     source: str
@@ -141,6 +147,7 @@ class Model:
     qpos0: np.ndarray
     notes: tuple[str, ...] = ()
     forward: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    planar: bool = False
 
     @property
     def nq(self) -> int:
@@ -165,7 +172,9 @@ class Model:
         return self.dof_names.index(name)
 
 
-def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) -> Model:
+def load_model(
+    mjcf: str | Path, thicken_to: float | None = None, forward=None, planar_fluid: str = "2d"
+) -> Model:
     """Load and check an MJCF creature, listing every problem at once.
 
     What only describes scenery or another simulator's set-up (a floor,
@@ -181,6 +190,10 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) 
         forward: the direction the head points in the file's frame, (2,) or
             (3,); None: from the model (``Model.forward``). A creature facing
             elsewhere than +x is turned to face +x, with a note.
+        planar_fluid: where a planar model (root slide x, slide y, hinge z)
+            swims: '2d', the 2D fluid, its geoms as prisms (cut by the plane of
+            motion where they are 3D shapes); or '3d', the 3D fluid with its
+            shapes as they are and its root held to its plane (``Model.planar``).
 
     Returns:
         The checked ``Model``.
@@ -198,7 +211,9 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) 
     except ValueError as err:
         raise ModelError(source, [*problems, prepared.compile_error(err)]) from None
     facts = describe(mj)
-    root, dim, depth, ranges = _check_compiled(facts, prepared, problems, notes)
+    if planar_fluid not in PLANAR_FLUIDS:
+        raise ValueError(f"planar_fluid must be one of {PLANAR_FLUIDS}, got {planar_fluid!r}")
+    root, dim, depth, ranges = _check_compiled(facts, prepared, problems, notes, planar_fluid)
     if problems:
         raise ModelError(source, problems)
     hidden = inertia_only(facts)
@@ -221,7 +236,8 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) 
         facts = describe(mj)
         if _check_planar(facts, root, depth, problems, []) != depth or problems:
             raise ModelError(source, problems or ["its cut by the plane of motion is no prism"])
-    heading, why = _forward(facts, dim, forward, problems)
+    planar = _is_planar(facts, root)
+    heading, why = _forward(facts, 2 if planar else dim, forward, problems)
     if problems:
         raise ModelError(source, problems)
     if not np.allclose(heading, X):
@@ -232,14 +248,15 @@ def load_model(mjcf: str | Path, thicken_to: float | None = None, forward=None) 
         mj = compile_mjcf(xml=turn_root(xml, facts, _turning(heading)))
         facts = describe(mj)
     forward = tuple(float(v) for v in heading)
-    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward)
+    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward, planar)
 
 
 # --- checks on the compiled model ---------------------------------------------
 # Each appends its problems, with their fixes, to ``problems`` and goes on.
 
 
-def _check_compiled(facts: CompiledFacts, prepared, problems: list[str], notes: list[str]):
+def _check_compiled(facts: CompiledFacts, prepared, problems: list[str], notes: list[str],
+                    planar_fluid: str = "2d"):  # fmt: skip
     """(root link, dimension, depth, gait ranges); a part that cannot be known is None.
 
     A planar model's depth is ``FLATTEN`` when its geoms are to be cut by the plane of
@@ -251,10 +268,24 @@ def _check_compiled(facts: CompiledFacts, prepared, problems: list[str], notes: 
     ranges = _gait_ranges(facts, root, prepared, problems, notes)
     if dim is None:
         return root, None, None, ranges
+    if dim == 2 and planar_fluid == "3d":
+        dim = 3
+        unused = " (its aquagait_depth unused)" if DEPTH_NAME in facts.numeric else ""
+        notes.append(
+            "planar, swum in the 3D fluid: its shapes as they are, its root held to the plane "
+            f"it moves in (slide x, slide y, hinge z){unused}"
+        )
+        return root, dim, None, ranges
     depth = _depth(facts, dim, problems)
     if dim == 2:
         depth = _check_planar(facts, root, depth, problems, notes)
     return root, dim, depth, ranges
+
+
+def _is_planar(facts: CompiledFacts, root: int) -> bool:
+    """Whether the root moves in the x-y plane (slide x, slide y, hinge z)."""
+    return [facts.joint_kind[j] for j in np.flatnonzero(facts.joint_link == root)] == [
+        "slide", "slide", "hinge"]  # fmt: skip
 
 
 def _link(facts: CompiledFacts, k: int) -> str:
@@ -571,7 +602,8 @@ def _flattened(xml: str, mj, facts: CompiledFacts, root: int, declared):
 # --- the description ------------------------------------------------------------
 
 
-def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes, forward) -> Model:
+def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes, forward,
+           planar) -> Model:  # fmt: skip
     joints = tuple(_joint_record(facts, j, ranges.get(j)) for j in range(len(facts.joint_names)))
     dof_names = [""] * facts.nv
     for joint in joints:
@@ -604,6 +636,7 @@ def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes, fo
         qpos0=facts.qpos0,
         notes=notes,
         forward=forward,
+        planar=planar,
     )
 
 

@@ -85,6 +85,11 @@ The entries (units: rad, s, m, J; the paper's gait is
   clearly lies towards one end, else +x (``aquagait.body.model``). A creature
   facing elsewhere than +x is turned on loading to face +x, the direction
   every objective, metric and manoeuvre takes as forward.
+- ``planar_fluid``: ``"2d"`` (default) or ``"3d"``: where a planar model (root
+  slide x, slide y, hinge z) swims. In 2D its geoms are prisms, 3D shapes cut
+  by the plane of motion (``aquagait.body.flatten``); in 3D its shapes are as
+  written and its root is held to its plane (no rolling, pitching or rising):
+  the better physics for 3D shapes, at a 3D fluid's cost.
 - ``gaits``: shipped gaits by name; ``straight`` is the creature's default
   gait; ``turn-left``, ``turn-right``, ``pitch-up`` and ``pitch-down`` are its
   learned manoeuvres (``aquagait optimize --maneuver``, followed by
@@ -155,6 +160,7 @@ class Metadata:
         energy_bound: [J], or None.
         energy_weight: [1/J], or None.
         forward: (3,) the direction the head points in the MJCF's frame, or None.
+        planar_fluid: "2d" or "3d", where a planar model swims, or None ("2d").
         gaits: shipped gaits by name: ``{"params": dict | list, "provenance": dict}``.
     """
 
@@ -166,6 +172,7 @@ class Metadata:
     energy_bound: float | None = None
     energy_weight: float | None = None
     forward: tuple[float, float, float] | None = None
+    planar_fluid: str | None = None
     gaits: Mapping = field(default_factory=dict)
 
 

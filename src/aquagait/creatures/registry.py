@@ -127,10 +127,10 @@ def load(path, thicken: bool = True) -> Creature:
     key = (str(mjcf), thicken, *times)
     if key not in _LOADED:
         meta = read_metadata(side) if side.is_file() else Metadata()
-        creature = build_creature(load_model(mjcf, forward=meta.forward), meta, name=mjcf.stem)
+        read = dict(forward=meta.forward, planar_fluid=meta.planar_fluid or "2d")
+        creature = build_creature(load_model(mjcf, **read), meta, name=mjcf.stem)
         if thicken:
-            h = creature.cell_size
-            model = load_model(mjcf, thicken_to=THICKEN_CELLS * h, forward=meta.forward)
+            model = load_model(mjcf, thicken_to=THICKEN_CELLS * creature.cell_size, **read)
             if model.notes != creature.model.notes:  # something was thickened
                 creature = build_creature(model, meta, name=mjcf.stem)
         else:

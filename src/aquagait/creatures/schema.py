@@ -15,7 +15,17 @@ import math
 from aquagait.control.gait import KINDS
 
 KEYS = {
-    "": ("description", "gait", "pd", "grid", "energy_bound", "energy_weight", "forward", "gaits"),
+    "": (
+        "description",
+        "gait",
+        "pd",
+        "grid",
+        "energy_bound",
+        "energy_weight",
+        "forward",
+        "planar_fluid",
+        "gaits",
+    ),
     "gait": (
         "dofs",
         "free",
@@ -253,7 +263,8 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
 
     Returns:
         ``{"description": str, "gait": {...}, "pd": {...}, "grid": {...},
-        "energy_bound": float, "energy_weight": float, "forward": (x, y, z), "gaits": {...}}``
+        "energy_bound": float, "energy_weight": float, "forward": (x, y, z),
+        "planar_fluid": "2d" | "3d", "gaits": {...}}``
         with only the entries given
         (lists of names as tuples, bounds as (lo, hi) pairs), and the list of
         problems (empty: the shapes and types are right).
@@ -274,6 +285,12 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
         out["energy_weight"] = check.number(top["energy_weight"], "energy_weight", lower=0)
     if "forward" in top:
         out["forward"] = _forward(check, top["forward"])
+    if "planar_fluid" in top:
+        value = top["planar_fluid"]
+        if value in ("2d", "3d"):
+            out["planar_fluid"] = value
+        else:
+            check.add("planar_fluid", f'must be "2d" or "3d", got {value!r}')
     out["gaits"] = shipped(check, top.get("gaits", {}))
     return out, check.problems
 

@@ -68,7 +68,7 @@ def widest_box(scene: Scene, gait, poses: int = 16) -> np.ndarray:
     """
     model, dynamics = scene.model, scene.dynamics
     index = [model.dof(d) for d in gait.dofs]
-    turn = model.root_dofs[2:] if model.dim == 2 else model.root_dofs[3:]
+    turn = model.root_dofs[2:] if model.planar else model.root_dofs[3:]
     reference = _weighted_points(scene, model.qpos0)
     root_rot = dynamics.link_poses(model.qpos0)[1][0]  # a free root turns in its own frame
     period = float(np.max(gait.period))
@@ -79,7 +79,7 @@ def widest_box(scene: Scene, gait, poses: int = 16) -> np.ndarray:
         displacement[index] = gait.angles(t)
         bent = _weighted_points(scene, dynamics.integrate(model.qpos0, displacement, 1.0))
         back = _best_rotation(bent, reference)
-        displacement[turn] = back[2:] if model.dim == 2 else root_rot.T @ back
+        displacement[turn] = back[2:] if model.planar else root_rot.T @ back
         bounds = body_bounds(scene, dynamics.integrate(model.qpos0, displacement, 1.0))
         sides = np.maximum(sides, bounds[1] - bounds[0])
     return sides
