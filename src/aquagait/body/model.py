@@ -216,26 +216,8 @@ def load_model(
     root, dim, depth, ranges = _check_compiled(facts, prepared, problems, notes, planar_fluid)
     if problems:
         raise ModelError(source, problems)
-    hidden = inertia_only(facts)
-    if hidden:
-        notes.append(_inertia_only_note(facts, hidden))
-    sizes, meshes = thin_geoms(facts, thicken_to, dim == 2) if thicken_to else ({}, [])
-    kept = [g for g in range(len(facts.geom_kind)) if g not in hidden]
-    if any(g in sizes for g in kept) or any(g in meshes for g in kept):
-        notes.append(_thickened_note(facts, thicken_to, {g: sizes[g] for g in kept if g in sizes},
-                                     [g for g in meshes if g in kept]))  # fmt: skip
-    xml = prepared.xml
-    if hidden or sizes or depth == FLATTEN:
-        xml = pin_inertia(xml, facts, hidden, {g: sizes[g] for g in kept if g in sizes})
-        mj = compile_mjcf(xml=xml)
-        facts = describe(mj)
-    if depth == FLATTEN:
-        xml, depth, note = _flattened(xml, mj, facts, root, _depth(facts, dim, []))
-        notes.append(note)
-        mj = compile_mjcf(xml=xml)
-        facts = describe(mj)
-        if _check_planar(facts, root, depth, problems, []) != depth or problems:
-            raise ModelError(source, problems or ["its cut by the plane of motion is no prism"])
+    xml, mj, facts, depth = _fluid_shape(prepared.xml, mj, facts, root, dim, depth, thicken_to,
+                                         notes, source)  # fmt: skip
     planar = _is_planar(facts, root)
     heading, why = _forward(facts, 2 if planar else dim, forward, problems)
     if problems:
@@ -249,6 +231,36 @@ def load_model(
         facts = describe(mj)
     forward = tuple(float(v) for v in heading)
     return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward, planar)
+
+
+def _fluid_shape(xml, mj, facts, root, dim, depth, thicken_to, notes, source):
+    """The model rewritten into the shape the water sees (``aquagait.body.reshape``): hidden
+    geoms dropped, thin ones thickened, a planar model's 3D shapes cut by its plane; MuJoCo's
+    masses and inertias kept. Returns ``(xml, mj, facts, depth)``, as they were if nothing
+    needed doing."""
+    hidden = inertia_only(facts)
+    if hidden:
+        notes.append(_inertia_only_note(facts, hidden))
+    sizes, meshes = thin_geoms(facts, thicken_to, dim == 2) if thicken_to else ({}, [])
+    sizes = {g: size for g, size in sizes.items() if g not in hidden}
+    meshes = [g for g in meshes if g not in hidden]
+    if sizes or meshes:
+        notes.append(_thickened_note(facts, thicken_to, sizes, meshes))
+    if not (hidden or sizes or depth == FLATTEN):
+        return xml, mj, facts, depth
+    xml = pin_inertia(xml, facts, hidden, sizes)
+    mj = compile_mjcf(xml=xml)
+    facts = describe(mj)
+    if depth != FLATTEN:
+        return xml, mj, facts, depth
+    xml, depth, note = _flattened(xml, mj, facts, root, _depth(facts, dim, []), source)
+    notes.append(note)
+    mj = compile_mjcf(xml=xml)
+    facts = describe(mj)
+    problems = []
+    if _check_planar(facts, root, depth, problems, []) != depth or problems:
+        raise ModelError(source, problems or ["its cut by the plane of motion is no prism"])
+    return xml, mj, facts, depth
 
 
 # --- checks on the compiled model ---------------------------------------------
@@ -360,7 +372,7 @@ def _gait_ranges(facts: CompiledFacts, root: int, prepared, problems: list[str],
             switched_off.append(j)
         elif not hi > lo and kind == "hinge" and name in prepared.servos:
             lo, hi = prepared.servos[name]
-            servo.append(f"{name!r} {lo:.3g} to {hi:.3g} rad")
+            servo.append(j)
         elif not hi > lo:
             lo, hi = (-DEFAULT_RANGE, DEFAULT_RANGE) if kind == "hinge" else (0.0, DEFAULT_RANGE)
             default.append(j)
@@ -371,10 +383,11 @@ def _gait_ranges(facts: CompiledFacts, root: int, prepared, problems: list[str],
             '(limited="false"): it bounds the gait\'s amplitudes and offsets'
         )
     if servo:
-        has = "has" if len(servo) == 1 else "have"
+        targets = ", ".join(f"{facts.joint_names[j]!r} {ranges[j][0]:.3g} to {ranges[j][1]:.3g} rad"
+                            for j in servo)  # fmt: skip
         notes.append(
-            f"{len(servo)} joint(s) {has} no range; the targets of their position servos "
-            f"bound the gait instead: {', '.join(servo)}"
+            f"{_joints(facts, servo)} no range: the targets of its position servo bound "
+            f"the gait instead ({targets})"
         )
     if default:
         notes.append(
@@ -567,7 +580,7 @@ def _turning(heading) -> np.ndarray:
     return np.eye(3) + sin * cross + (1 - cos) * cross @ cross
 
 
-def _flattened(xml: str, mj, facts: CompiledFacts, root: int, declared):
+def _flattened(xml: str, mj, facts: CompiledFacts, root: int, declared, source: str):
     """A planar model's geoms cut by its plane of motion (``aquagait.body.flatten``):
     the new MJCF text, the prism depth and a note saying what was done."""
     faces = mesh_faces(mj)
@@ -576,7 +589,7 @@ def _flattened(xml: str, mj, facts: CompiledFacts, root: int, declared):
     volumes = np.array([geom_volume(kind, facts.geom_size[g], facts.geom_vertices[g], faces[g])
                         for g, kind in enumerate(facts.geom_kind)])  # fmt: skip
     if all(s is None for s in shapes):
-        raise ModelError("the plane its root moves in misses every geom: nothing to swim")
+        raise ModelError(source, "the plane its root moves in misses every geom: nothing to swim")
     depth = declared if declared is not None else prism_depth(volumes, shapes)
     why = "declared" if declared is not None else "the geoms' volume over their outlines' area"
     links = len(facts.link_names)
