@@ -20,12 +20,13 @@ the inertia-only geoms are removed; compiled again, the model moves exactly
 as before and its geoms are the shape.
 
 The same rewrite thickens thin parts for the fluid (``thin_geoms``): a grid
-sees a part well only when it is about two cells thick (DESIGN.md §2.8), and
+sees a part well only when it is a cell or two thick (DESIGN.md §2.8), and
 fins written for MuJoCo's own fluid model are often 2 mm plates. A primitive
-geom thinner than a given minimum across any of its sides gets that side
-widened to the minimum (its other sides, its centre and its axes kept); its
-link's mass and inertia stay MuJoCo's, since they are pinned. Meshes are
-not thickened (a note names them).
+geom thinner than a given minimum (``aquagait.creatures`` asks for one cell
+of the default grid, as thick as the library's creatures were built) across
+any of its sides gets that side widened to the minimum (its other sides, its
+centre and its axes kept); its link's mass and inertia stay MuJoCo's, since
+they are pinned. Meshes are not thickened (a note names them).
 
 Last, a creature whose head points elsewhere than +x, the direction every
 objective, metric and manoeuvre takes as forward, is turned as a whole to
