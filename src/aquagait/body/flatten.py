@@ -21,6 +21,10 @@ motion cuts through it:
 - the creature is moved down to z = 0, and each geom becomes a mesh prism
   of that depth, while MuJoCo's masses and inertias of the 3D shapes stay
   (``aquagait.body.reshape.pin_inertia``).
+
+This is the default. A planar model may instead swim in the 3D fluid, its
+shapes as written and its root held to its plane (``load_model``'s
+``planar_fluid="3d"``, the side-car's ``"planar_fluid": "3d"``).
 """
 
 from __future__ import annotations
