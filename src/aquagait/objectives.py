@@ -113,7 +113,7 @@ def maneuver_goal(
         raise ValueError(f"unknown manoeuvre {name!r}; manoeuvres: {', '.join(MANEUVERS)}")
     if (dim == 2 if planar is None else planar) and name.startswith("pitch"):
         what = "a 2D creature" if dim == 2 else "a creature held to its plane"
-        raise ValueError(f"{what} turns in its plane; {name!r} is for free 3D creatures")
+        raise ValueError(f"{what} turns in its plane; {name!r} is for 3D creatures (a free root)")
     direction, axis = MANEUVERS[name]
     d = _unit(direction[:dim], dim)
     return d, None if axis is None else np.asarray(axis, dtype=float)

@@ -25,6 +25,7 @@ tail hinges, mirrored legs optimized after the tail):
       "energy_bound": 0.02,
       "energy_weight": 1.0,
       "forward": [1, 0, 0],
+      "planar_fluid": "2d",
       "gaits": {
         "straight": {
           "params": {
