@@ -163,7 +163,6 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "depth": model.depth,
         "mass": float(model.mass),
         "displaced": sum(r["volume"] for r in links) * setup.scene.density,
-        "water_density": setup.scene.density,
         "body_length": float(model.body_length),
         "forward": list(model.forward),
         "links": links,

@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from aquagait.body.model import direction_label
+
 if TYPE_CHECKING:
     from aquagait.app.check import CheckReport
 
@@ -39,17 +41,12 @@ def _heading(n: dict) -> str:
         f"source: {n['source']}" + (" (the library's)" if n["library"] else ""),
         f"{body}; mass {n['mass']:.4g} kg; body length {n['body_length']:.3g} m; "
         f"{len(n['links'])} links, {len(n['dofs'])} actuated DOF{'s' * (len(n['dofs']) != 1)}",
-        f"forward: {_forward(n['forward'])} in the file's frame" + _turned(n["forward"]),
+        f"forward: {direction_label(n['forward'])} in the file's frame" + _turned(n["forward"]),
     ])  # fmt: skip
 
 
 def _turned(forward) -> str:
     return "" if forward == [1.0, 0.0, 0.0] else ", turned to face +x (swims are in that frame)"
-
-
-def _forward(v) -> str:
-    axes = [("+" if c > 0 else "-") + "xyz"[i] for i, c in enumerate(v) if abs(abs(c) - 1) < 1e-9]
-    return axes[0] if axes else "[" + ", ".join(f"{c:.3g}" for c in v) + "]"
 
 
 def _link_table(n: dict) -> str:

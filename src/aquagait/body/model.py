@@ -224,7 +224,7 @@ def load_model(
         raise ModelError(source, problems)
     if not np.allclose(heading, X):
         notes.append(
-            f"forward is the model's {_direction(heading)} ({why}): turned to face +x, "
+            f"forward is the model's {direction_label(heading)} ({why}): turned to face +x, "
             "aquagait's forward, so positions in its swims are in the turned frame"
         )
         mj = compile_mjcf(xml=turn_root(xml, facts, _turning(heading)))
@@ -557,8 +557,8 @@ def _forward(facts: CompiledFacts, dim: int, given, problems: list[str]):
     return heading, f"its root link {facts.link_names[0]!r} lies towards that end"
 
 
-def _direction(v) -> str:
-    """'+y' for an axis, else the vector."""
+def direction_label(v) -> str:
+    """A direction (3,) for people: '+y' for an axis, else the vector."""
     for i, name in enumerate("xyz"):
         if abs(abs(v[i]) - 1) < 1e-12:
             return ("+" if v[i] > 0 else "-") + name
