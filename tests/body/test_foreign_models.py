@@ -232,3 +232,12 @@ def test_a_planar_model_can_swim_in_3d_held_to_its_plane():
     traj = Trajectory(np.array([0.0, 1.0]), qpos, zeros, zeros, zeros, dt=0.01, fps=1.0)
     np.testing.assert_allclose(objectives.root_displacement(held, traj), [0.1, -0.02, 0.0])
     np.testing.assert_allclose(objectives.rotation_vector(held, traj), [0.0, 0.0, 0.3])
+
+
+def test_a_tilted_plate_in_a_planar_model_is_thickened_across_the_plane():
+    """A box stood on its edge: its thin side lies in the plane (widened), its 2 cm side
+    along the depth (left alone); the cut then is 10 cm x 4 mm."""
+    plate = 'size=".05 .02 .001" euler="90 0 0"'
+    model = load_model(PLANAR.replace('size=".05 .001 .02"', plate), thicken_to=0.004)
+    assert any("'fin' 2 -> 4 mm" in note for note in model.notes)
+    assert link_volumes(model)[1] == pytest.approx(0.1 * 0.004 * model.depth, rel=2e-3)

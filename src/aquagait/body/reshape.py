@@ -76,8 +76,8 @@ def thin_geoms(facts, minimum: float, planar: bool) -> tuple[dict[int, np.ndarra
     Args:
         facts: the compiled model's ``CompiledFacts``.
         minimum: the thickness every part should have [m].
-        planar: a planar (2D) model: only the sides in the plane count (a
-            prism's depth along z is the model's, not a thickness).
+        planar: a planar (2D) model: only the sides along axes in the plane count
+            (a prism's depth along z is the model's, not a thickness).
     Returns:
         ``(sizes, meshes)``: geom index -> its new MuJoCo size (3,) [m], for each
         primitive with a side under ``minimum``; and the mesh geoms that are
@@ -93,11 +93,13 @@ def thin_geoms(facts, minimum: float, planar: bool) -> tuple[dict[int, np.ndarra
             if sides.min() < minimum:
                 meshes.append(g)
             continue
-        # the entries of a MuJoCo size that are half-thicknesses: radii and half-sides
+        # the entries of a MuJoCo size that are half-thicknesses (radii and half-sides); in
+        # a planar model only those along axes in the plane, not along its depth
+        seen = [not planar or abs(facts.geom_rot[g][2, i]) < 0.5 for i in range(3)]
         across = {
-            "box": [0, 1] if planar else [0, 1, 2],
-            "ellipsoid": [0, 1] if planar else [0, 1, 2],
-            "cylinder": [0] if planar else [0, 1],
+            "box": [i for i in range(3) if seen[i]],
+            "ellipsoid": [i for i in range(3) if seen[i]],
+            "cylinder": [0, 1] if seen[2] else [0],  # the height runs along the axis, z
             "capsule": [0],
             "sphere": [0],
         }[kind]
