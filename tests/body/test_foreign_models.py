@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
+import aquagait as ag
 from aquagait.body import ModelError, load_model
 from aquagait.body.dynamics import Dynamics, compile_mjcf, describe
 from aquagait.body.geometry import link_volumes
@@ -206,10 +207,8 @@ def test_the_side_car_can_say_which_way_is_forward():
         load_model(PLANAR, forward=(0.0, 1.0, 1.0))
 
 
-@pytest.mark.parametrize("name", ["eel2d", "fish", "manta", "turtle3d", "frog"])
+@pytest.mark.parametrize("name", ag.creatures.names())
 def test_the_library_faces_plus_x_as_written(name):
-    import aquagait as ag
-
     model = ag.creatures.get(name).model
     assert model.forward == (1.0, 0.0, 0.0)
     assert not any(note.startswith("forward") for note in model.notes)
