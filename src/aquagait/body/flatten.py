@@ -33,8 +33,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from aquagait.body.reshape import detach, numbers
-from aquagait.body.scenery import kids
+from aquagait.body.reshape import detach, elements, numbers
+from aquagait.body.scenery import remove_from
 from aquagait.body.shape import _mesh_sdf, _primitive_sdf
 
 RAYS = 128
@@ -125,17 +125,13 @@ def prism_xml(xml: str, facts, shapes, depth: float, plane_z: float) -> str:
         plane_z: the plane's height [m], moved to 0.
     """
     root = ET.fromstring(xml)
-    bodies = list(root.find("worldbody").iter("body"))
-    geoms = [(body, geom) for body in bodies for geom in kids(body, "geom")]
+    bodies, geoms = elements(root, facts)
     assets = root.find("asset")
     if assets is None:
         assets = ET.SubElement(root, "asset")
     for g, ((body, geom), shape) in enumerate(zip(geoms, shapes, strict=True)):
         if shape is None:
-            for holder in body.iter():
-                if geom in list(holder):
-                    holder.remove(geom)
-                    break
+            remove_from(body, geom)
             continue
         k = int(facts.geom_link[g])
         ring = np.vstack([shape, facts.geom_pos[g, :2]])  # the outline, then its centre
@@ -148,9 +144,8 @@ def prism_xml(xml: str, facts, shapes, depth: float, plane_z: float) -> str:
         detach(root, geom, facts, g)
         geom.set("type", "mesh")
         geom.set("mesh", name)
-    top = root.find("worldbody").find("body")
     pos = facts.link_pos[0] - [0.0, 0.0, plane_z]  # the root is at the world's pose at qpos0
-    top.set("pos", numbers(pos))
+    bodies[0].set("pos", numbers(pos))
     custom = root.find("custom")
     if custom is None:
         custom = ET.SubElement(root, "custom")

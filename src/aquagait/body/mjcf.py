@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from xml.parsers import expat
 
-from aquagait.body.scenery import kids, names, set_aside
+from aquagait.body.scenery import kids, names, remove_from, set_aside
 
 GEOM_KINDS = ("capsule", "box", "sphere", "ellipsoid", "cylinder", "mesh")
 FILE_ASSETS = {"mesh": "meshdir", "hfield": "meshdir", "skin": "meshdir", "texture": "texturedir"}
@@ -329,7 +329,7 @@ def _check_geom(body, geom, index, body_label, cls, classes, problems) -> None:
     kind = geom.get("type") or _default_attr(classes, cls, "type") or "sphere"
     if kind not in GEOM_KINDS:
         problems.append(f"{where} is a {kind}; allowed: {', '.join(GEOM_KINDS)}")
-        _remove_from(body, geom)
+        remove_from(body, geom)
         return
     for attr, unit in (("density", "kg/m^3"), ("mass", "kg")):
         value = geom.get(attr) or _default_attr(classes, cls, attr)
@@ -345,13 +345,6 @@ def _check_geom(body, geom, index, body_label, cls, classes, problems) -> None:
                 f"{where} has {attr} {value!r}; it must be a number >= 0 [{unit}], e.g. {example}"
             )
             geom.set(attr, "1000" if attr == "density" else "1")  # a placeholder, as above
-
-
-def _remove_from(body, element) -> None:
-    for holder in body.iter():
-        if element in list(holder):
-            holder.remove(element)
-            return
 
 
 def _geom_label(geom, index=None) -> str:

@@ -41,7 +41,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from aquagait.body.rotations import quat_from_matrix
-from aquagait.body.scenery import kids
+from aquagait.body.scenery import kids, remove_from
 
 HIDDEN_GROUP = 3
 """MuJoCo's viewer shows geom groups 0-2 by default; 3 and above are hidden."""
@@ -131,13 +131,7 @@ def pin_inertia(xml: str, facts, drop=(), sizes=None) -> str:
             compiled model's (a bug here, not in the user's file).
     """
     root = ET.fromstring(xml)
-    bodies = list(root.find("worldbody").iter("body"))  # MuJoCo numbers bodies depth first
-    geoms = [(body, geom) for body in bodies for geom in kids(body, "geom")]
-    if len(bodies) != len(facts.link_names) or len(geoms) != len(facts.geom_kind):
-        raise RuntimeError(
-            f"pin_inertia: {len(bodies)} bodies and {len(geoms)} geoms in the text, "
-            f"{len(facts.link_names)} and {len(facts.geom_kind)} compiled"
-        )
+    bodies, geoms = elements(root, facts)
     for k, body in enumerate(bodies):
         for old in body.findall("inertial"):
             body.remove(old)
@@ -156,11 +150,7 @@ def pin_inertia(xml: str, facts, drop=(), sizes=None) -> str:
         geom.set("quat", numbers(facts.geom_local_quat[g]))
         geom.set("size", numbers(size))
     for g in drop:
-        body, geom = geoms[g]
-        for holder in body.iter():  # the geom may sit in a <frame>
-            if geom in list(holder):
-                holder.remove(geom)
-                break
+        remove_from(*geoms[g])
     compilers = root.findall("compiler")
     if not compilers:
         compilers = [ET.Element("compiler")]
@@ -168,6 +158,23 @@ def pin_inertia(xml: str, facts, drop=(), sizes=None) -> str:
     for compiler in compilers:
         compiler.set("inertiafromgeom", "false")
     return ET.tostring(root, encoding="unicode")
+
+
+def elements(root, facts) -> tuple[list, list]:
+    """The parsed MJCF's body elements and its (body, geom) element pairs, each list in the
+    compiled model's order (MuJoCo numbers bodies depth first, and a body's geoms in turn).
+
+    Raises:
+        RuntimeError: they do not line up with ``facts`` (a bug here, not in the user's file).
+    """
+    bodies = list(root.find("worldbody").iter("body"))
+    geoms = [(body, geom) for body in bodies for geom in kids(body, "geom")]
+    if len(bodies) != len(facts.link_names) or len(geoms) != len(facts.geom_kind):
+        raise RuntimeError(
+            f"{len(bodies)} bodies and {len(geoms)} geoms in the MJCF text, "
+            f"{len(facts.link_names)} and {len(facts.geom_kind)} compiled"
+        )
+    return bodies, geoms
 
 
 def detach(root, geom, facts, g: int) -> None:
@@ -208,9 +215,7 @@ def turn_root(xml: str, facts, rot) -> str:
         its slide and hinge joints along the same world axes as before.
     """
     root = ET.fromstring(xml)
-    body = root.find("worldbody").find("body")
-    if body is None:
-        body = next(root.find("worldbody").iter("body"))
+    body = elements(root, facts)[0][0]
     rot = np.asarray(rot, dtype=float)
     turned = rot @ facts.link_rot[0]
     for attr in ORIENTATION:

@@ -52,6 +52,14 @@ def kids(element, tag: str) -> list:
     return found
 
 
+def remove_from(body, element) -> None:
+    """Remove ``element`` from ``body``, wherever below it it sits (a <frame> among them)."""
+    for holder in body.iter():
+        if element in list(holder):
+            holder.remove(element)
+            return
+
+
 def names(elements, kind=False, most=4) -> str:
     """Up to ``most`` elements' names (and types, with ``kind``), for a note or a problem."""
 

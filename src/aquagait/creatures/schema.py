@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 
+from aquagait.body.model import PLANAR_FLUIDS
 from aquagait.control.gait import KINDS
 
 KEYS = {
@@ -287,10 +288,11 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
         out["forward"] = _forward(check, top["forward"])
     if "planar_fluid" in top:
         value = top["planar_fluid"]
-        if value in ("2d", "3d"):
+        if value in PLANAR_FLUIDS:
             out["planar_fluid"] = value
         else:
-            check.add("planar_fluid", f'must be "2d" or "3d", got {value!r}')
+            check.add("planar_fluid", f"must be one of {', '.join(map(repr, PLANAR_FLUIDS))}, "
+                      f"got {value!r}")  # fmt: skip
     out["gaits"] = shipped(check, top.get("gaits", {}))
     return out, check.problems
 
