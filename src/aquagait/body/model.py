@@ -397,9 +397,14 @@ def _gait_ranges(facts: CompiledFacts, root: int, prepared, problems: list[str],
     return ranges
 
 
+def _labels(names, indices) -> list[str]:
+    """How notes name joints or geoms: the quoted name, or '#index' for an unnamed one."""
+    return [repr(names[i]) if names[i] else f"#{i}" for i in indices]
+
+
 def _joints(facts: CompiledFacts, js) -> str:
     """ "joint 'a' has" or "3 joints ('a', 'b', 'c') have"."""
-    labels = [repr(facts.joint_names[j]) if facts.joint_names[j] else f"#{j}" for j in js]
+    labels = _labels(facts.joint_names, js)
     if len(labels) == 1:
         return f"joint {labels[0]} has"
     return f"{len(labels)} joints ({listing(labels)}) have"
@@ -500,7 +505,7 @@ def _prism_problem(facts: CompiledFacts, g: int, depth, tol: float) -> str | Non
 
 
 def _inertia_only_note(facts: CompiledFacts, geoms) -> str:
-    labels = [repr(facts.geom_names[g]) if facts.geom_names[g] else f"#{g}" for g in geoms]
+    labels = _labels(facts.geom_names, geoms)
     links = sorted({_link(facts, facts.geom_link[g]) for g in geoms})
     what = f"geom {labels[0]}" if len(labels) == 1 else f"{len(labels)} geoms ({listing(labels)})"
     verb = "gives" if len(labels) == 1 else "give"
@@ -515,7 +520,7 @@ def _thickened_note(facts: CompiledFacts, minimum: float, sizes: dict, meshes: l
     """Which geoms were widened for the fluid, from what to what, and which meshes were not."""
     parts = []
     for g, size in sizes.items():
-        label = repr(facts.geom_names[g]) if facts.geom_names[g] else f"#{g}"
+        (label,) = _labels(facts.geom_names, [g])
         was = 2 * facts.geom_size[g][size != facts.geom_size[g]].min()
         parts.append(f"{label} {was * 1e3:.3g} -> {minimum * 1e3:.3g} mm")
     said = []
@@ -525,7 +530,7 @@ def _thickened_note(facts: CompiledFacts, minimum: float, sizes: dict, meshes: l
             "and inertias unchanged; --no-thicken keeps them as written)"
         )
     if meshes:
-        labels = [repr(facts.geom_names[g]) if facts.geom_names[g] else f"#{g}" for g in meshes]
+        labels = _labels(facts.geom_names, meshes)
         said.append(f"mesh geoms thinner than {minimum * 1e3:.3g} mm are not thickened: "
                     f"{listing(labels)}")  # fmt: skip
     return "; ".join(said)
@@ -599,8 +604,7 @@ def _flattened(xml: str, mj, facts: CompiledFacts, root: int, declared, source: 
             prism[facts.geom_link[g]] += area(s) * depth
             solid[facts.geom_link[g]] += volumes[g]
     ratio = prism[solid > 0] / solid[solid > 0] - 1
-    names = [repr(n) if n else f"#{g}" for g, n in enumerate(facts.geom_names)]
-    missed = [name for name, s in zip(names, shapes, strict=True) if s is None]
+    missed = _labels(facts.geom_names, [g for g, s in enumerate(shapes) if s is None])
     note = (
         f"planar with 3D shapes: each geom is its cross-section by the plane of motion (z = "
         f"{plane:g}) as a prism {depth * 1e3:.4g} mm deep ({why}; each link's prism volume "
