@@ -59,8 +59,27 @@ def _cmd_check(args) -> int:
     report = run_check(setup)
     write_check(report, out, picture=not args.no_picture)
     files = ["check.txt", "check.json"] + ["voxels.png"] * (not args.no_picture)
-    print(f"{format_check(report)}\n\nwrote {out}/: {', '.join(files)}")
+    print(format_check(report))
+    if args.convergence:
+        files += _convergence(setup.creature, args.seconds, out)
+    print(f"\nwrote {out}/: {', '.join(files)}")
     return 0
+
+
+def _convergence(creature, seconds: float, out: Path) -> list[str]:
+    """Run and write the step and grid study (``aquagait.app.convergence``)."""
+    from aquagait.app.convergence import convergence_study, format_convergence, write_convergence
+
+    print(f"\nconvergence: {creature.name}'s default gait, {seconds:g} s from rest, five swims")
+    study = convergence_study(
+        creature,
+        seconds,
+        progress=lambda swim: print(
+            f"  {swim.case.label}: {swim.distance:.4f} m ({swim.seconds:.0f} s)", flush=True
+        ),
+    )
+    print(f"\n{format_convergence(study)}")
+    return write_convergence(study, out)
 
 
 def _cmd_swim(args) -> int:
@@ -451,6 +470,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     check.add_argument("--out", metavar="DIR", help="directory (default: runs/NAME-check)")
     check.add_argument("--no-picture", action="store_true", help="skip voxels.png")
+    check.add_argument(
+        "--convergence", action="store_true",
+        help="also swim the default gait at 1/3 and 1/6 of the step and on 1.5x and 2x finer "
+             "grids, and compare the distances (minutes; the frog's, most of an hour)",
+    )  # fmt: skip
+    check.add_argument("--seconds", type=float, default=2.0,
+                       help="with --convergence: seconds swum in each case")  # fmt: skip
     _thicken_flag(check)
     check.set_defaults(run=_cmd_check)
 
