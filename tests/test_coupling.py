@@ -12,6 +12,7 @@ from aquagait.coupling import (
     CoupledProblem,
     dense_coupled_system,
     face_area,
+    near_body,
     solve_coupled,
     volume_change,
     water_fractions,
@@ -252,3 +253,29 @@ def test_face_area_needs_a_depth_in_2d():
     assert face_area(grid, 0.04) == pytest.approx(0.004)
     with pytest.raises(ValueError, match="prism depth"):
         face_area(grid, None)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_near_body_marks_the_faces_within_so_many_cells(dim):
+    """A disc or sphere of 3 cells' radius: a face is near when a cell beside it is
+    within ``cells`` steps along the axes of the body's cells (the cells without
+    water and those beside a coupled face)."""
+    scene = ball_scene(dim, 24, 3.0, boundary=voxelize_subcell)
+    grid = scene.grid
+    voxels = scene.fluid._voxels(scene, grid, scene.model.qpos0)
+    body = voxels.solid.copy()
+    for side in voxels.face_cells():
+        body[tuple(side.T)] = True
+    # steps from the body along the axes, by brute force
+    index = np.indices(grid.shape).reshape(dim, -1).T
+    steps = np.abs(index[:, None, :] - np.argwhere(body)[None]).sum(axis=2).min(axis=1)
+    steps = steps.reshape(grid.shape)
+    for cells in (0, 1, 2):
+        near = near_body(grid, voxels, cells)
+        for axis, faces in enumerate(near):
+            padded = np.pad(steps, [(1, 1) if a == axis else (0, 0) for a in range(dim)],
+                            constant_values=10**6)  # fmt: skip
+            n = padded.shape[axis]
+            closest = np.minimum(np.take(padded, range(n - 1), axis=axis),
+                                 np.take(padded, range(1, n), axis=axis))  # fmt: skip
+            np.testing.assert_array_equal(faces, closest <= cells)

@@ -64,6 +64,7 @@ from functools import cached_property
 
 import numba
 import numpy as np
+from scipy import ndimage
 
 from aquagait.body.dynamics import rigid_velocity
 from aquagait.body.voxelize import Voxels, marked
@@ -91,7 +92,11 @@ iterations of 1e-5."""
 
 MOSTLY_WATER = 0.5
 """A coupled face with at least this water fraction keeps the water's velocity
-after the solve (for advection); below it, it takes the body's."""
+after the solve (for advection); below it, it takes the body's
+(``rigid_faces_``). The body's velocity so re-enters the next solve as the
+water's on those faces, once a step: the more steps a second, the more the
+water there is held to the body (README, "Step and grid"). 0 keeps the water's
+velocity on every face with water."""
 
 LinkMotion = tuple[np.ndarray, np.ndarray, np.ndarray]
 """``(origins, linear, angular)``, each (nlinks, 3): the links' world origins [m],
@@ -287,10 +292,16 @@ def volume_change(problem: CoupledProblem, velocity: Velocity, qvel: np.ndarray)
     return fluid - _per_cell(grid, cells, rows @ qvel)
 
 
-def rigid_faces_(grid: Grid, velocity: Velocity, voxels: Voxels, motion: LinkMotion) -> None:
+def rigid_faces_(
+    grid: Grid,
+    velocity: Velocity,
+    voxels: Voxels,
+    motion: LinkMotion,
+    mostly_water: float = MOSTLY_WATER,
+) -> None:
     """Give every mostly solid face the rigid velocity of its link, in place.
 
-    Mostly solid: a coupled face whose water fraction is below 1/2, or any
+    Mostly solid: a coupled face whose water fraction is below ``mostly_water``, or any
     other face that touches a cell the body owns. Coupled faces so get the
     body's velocity where the body is most of them (on the staircase, all of
     them: step 3 of the module docstring), and keep the water's where it is;
@@ -304,13 +315,15 @@ def rigid_faces_(grid: Grid, velocity: Velocity, voxels: Voxels, motion: LinkMot
         velocity: face velocities [m/s], written in place.
         voxels: the voxelized body.
         motion: the links' rigid motion (``LinkMotion``).
+        mostly_water: the water fraction from which a coupled face keeps the
+            water's velocity (``MOSTLY_WATER``; 0: every face with water).
     """
     origins, linear, angular = (np.ascontiguousarray(a, dtype=float) for a in motion)
     owner = voxels.owner.reshape(voxels.owner.shape + (1,) * (3 - grid.dim))
     origin = np.zeros(3)
     origin[: grid.dim] = grid.origin
     box = _owned_box(owner)
-    watery = voxels.face_weight >= MOSTLY_WATER
+    watery = (voxels.face_weight >= mostly_water) & (voxels.face_weight > 0)
     kept = [_coupled_values(velocity, voxels, watery, axis) for axis in range(grid.dim)]
     for axis, component in enumerate(velocity):
         face = component.reshape(component.shape + (1,) * (3 - grid.dim))
@@ -327,6 +340,35 @@ def rigid_faces_(grid: Grid, velocity: Velocity, voxels: Voxels, motion: LinkMot
             at = tuple(index[axes == axis].T)
             component[at] = 0.0
             np.add.at(component, at, share[axes == axis] * speeds[axes == axis, axis])
+
+
+def near_body(grid: Grid, voxels: Voxels, cells: int) -> Velocity:
+    """Boolean face arrays: the faces within ``cells`` cells of the body.
+
+    The body is every cell without water and every cell beside a coupled face;
+    a face is near it when a cell on either side is at most ``cells`` steps
+    along the axes from one of those (``cells = 0``: the faces of the body's
+    own cells).
+    """
+    body = voxels.solid.copy()
+    for side in voxels.face_cells():
+        inside = np.all((side >= 0) & (side < grid.shape), axis=1)
+        body[tuple(side[inside].T)] = True
+    if cells > 0 and body.any():
+        found = np.argwhere(body)
+        lo = np.maximum(found.min(axis=0) - cells, 0)
+        hi = np.minimum(found.max(axis=0) + cells + 1, grid.shape)
+        box = tuple(slice(a, b) for a, b in zip(lo, hi, strict=True))
+        body[box] = ndimage.binary_dilation(body[box], iterations=cells)
+    padded = np.pad(body, 1)
+    near = []
+    for axis in range(grid.dim):
+        n = padded.shape[axis]
+        either = np.take(padded, range(n - 1), axis=axis) | np.take(padded, range(1, n), axis=axis)
+        inner = [slice(1, -1)] * grid.dim
+        inner[axis] = slice(None)
+        near.append(either[tuple(inner)])
+    return tuple(near)
 
 
 def _coupled_values(velocity: Velocity, voxels: Voxels, chosen: np.ndarray, axis: int):

@@ -73,5 +73,9 @@ def test_float32_face_velocities_swim_as_float64_does(name, grid, seconds):
 def test_the_precision_is_a_setting_and_checked(eel):
     assert ag.EulerFluid().settings()["dtype"] == "float64"
     assert ag.EulerFluid(dtype=np.float32).settings()["dtype"] == "float32"
+    with pytest.raises(ValueError, match="near_body must be a whole number of cells >= -1"):
+        ag.EulerFluid(near_body=1.5)
+    with pytest.raises(ValueError, match=r"mostly_water must be a water fraction in \[0, 1\]"):
+        ag.EulerFluid(mostly_water=2)
     with pytest.raises(ValueError, match="must be np.float64 or np.float32, got"):
         ag.EulerFluid(dtype=np.int32)

@@ -37,7 +37,7 @@ Scheme = Callable[[Grid, Velocity, Sequence[np.ndarray], float], Fields]
 
 
 def semi_lagrangian(
-    grid: Grid, carrier: Velocity, fields: Sequence[np.ndarray], dt: float
+    grid: Grid, carrier: Velocity, fields: Sequence[np.ndarray], dt: float, first_order=None
 ) -> Fields:
     """Advect each field by the carrier over ``dt``: RK2 back-trace, linear interpolation.
 
@@ -50,6 +50,8 @@ def semi_lagrangian(
         fields: arrays to advect, each cell-centred (``grid.shape``) or a face
             component (``grid.face_shape(a)``) [any unit].
         dt: time step [s]; a negative step traces forward (used by BFECC).
+        first_order: ignored (every sample is first order here); accepted so
+            that the schemes are interchangeable (``bfecc``).
     Returns:
         new arrays, one per field, same shapes and units; float32 when the
         carrier and every field are, else float64.
@@ -69,7 +71,12 @@ def semi_lagrangian(
 
 
 def bfecc(
-    grid: Grid, carrier: Velocity, fields: Sequence[np.ndarray], dt: float, limit: bool = True
+    grid: Grid,
+    carrier: Velocity,
+    fields: Sequence[np.ndarray],
+    dt: float,
+    limit: bool = True,
+    first_order: Sequence[np.ndarray] | None = None,
 ) -> Fields:
     """Advect each field by the carrier over ``dt`` with BFECC error correction.
 
@@ -83,17 +90,27 @@ def bfecc(
     Args:
         grid, carrier, fields, dt: as for ``semi_lagrangian``.
         limit: apply the extremum limiter (turn off only to study the scheme).
+        first_order: optional boolean masks, one per field and of its shape:
+            where True, the result is the first pass, ``phi1`` (semi-Lagrangian;
+            no cost). Next to a moving body, whose faces carry the body's
+            velocity rather than an advected one, the correction made the
+            distance swum depend on the step (``aquagait.sim.EulerFluid.near_body``).
     Returns:
         new arrays, one per field, same shapes, units and precision as for
         ``semi_lagrangian``.
     Raises:
         ValueError, grid.CFLError: as for ``semi_lagrangian``.
     """
-    return _bfecc(grid, carrier, fields, dt, limit, branching=None)
+    return _bfecc(grid, carrier, fields, dt, limit, branching=None, first_order=first_order)
 
 
 def bfecc_previous(
-    grid: Grid, carrier: Velocity, fields: Sequence[np.ndarray], dt: float, limit: bool = True
+    grid: Grid,
+    carrier: Velocity,
+    fields: Sequence[np.ndarray],
+    dt: float,
+    limit: bool = True,
+    first_order: Sequence[np.ndarray] | None = None,
 ) -> Fields:
     """``bfecc`` as compiled before issue 10: the same numbers bit for bit, slower.
 
@@ -102,12 +119,14 @@ def bfecc_previous(
     without branches. Kept so that ``aquagait bench swim --compare-advection``
     times the two in one run (``EulerFluid(advect=bfecc_previous)``).
     """
-    return _bfecc(grid, carrier, fields, dt, limit, branching=True)
+    return _bfecc(grid, carrier, fields, dt, limit, branching=True, first_order=first_order)
 
 
-def _bfecc(grid, carrier, fields, dt, limit, branching):
+def _bfecc(grid, carrier, fields, dt, limit, branching, first_order=None):
     """``bfecc``, with the kernels' clamping chosen by ``branching`` (None or True)."""
     carrier, fields = _checked(grid, carrier, fields, dt)
+    if first_order is not None and [np.shape(m) for m in first_order] != [f.shape for f in fields]:
+        raise ValueError("first_order must hold one boolean mask per field, of the field's shape")
     if dt == 0:
         return tuple(f.copy() for f in fields)
     out = [None] * len(fields)
@@ -123,10 +142,14 @@ def _bfecc(grid, carrier, fields, dt, limit, branching):
                 out[n] = _run("limited_gather", branching, phi_tilde, phi, *ahead, final)
             else:
                 out[n] = _run("gather", branching, phi_tilde, *ahead, final)
+            if first_order is not None:
+                np.copyto(out[n], phi1, where=first_order[n])
     return tuple(out)
 
 
-def advect_velocity(grid: Grid, velocity: Velocity, dt: float, scheme: Scheme = bfecc) -> Velocity:
+def advect_velocity(
+    grid: Grid, velocity: Velocity, dt: float, scheme: Scheme = bfecc, first_order=None
+) -> Velocity:
     """Self-advection of the face velocity field, the first phase of a fluid step (§3.1).
 
     Args:
@@ -135,10 +158,14 @@ def advect_velocity(grid: Grid, velocity: Velocity, dt: float, scheme: Scheme = 
         dt: time step [s].
         scheme: ``bfecc`` (default) or ``semi_lagrangian``, or any function
             with their signature.
+        first_order: optional boolean masks, one per component: faces advected
+            at first order (``bfecc``); passed to the scheme only when given.
     Returns:
         the advected face velocities [m/s], new arrays.
     """
-    return tuple(scheme(grid, velocity, velocity, dt))
+    if first_order is None:
+        return tuple(scheme(grid, velocity, velocity, dt))
+    return tuple(scheme(grid, velocity, velocity, dt, first_order=first_order))
 
 
 def _trace(grid: Grid, carrier: Velocity, shape: tuple[int, ...], dt: float, both: bool,

@@ -41,8 +41,10 @@ from aquagait.body.surface import Surface, body_surface
 from aquagait.body.voxelize import Voxels
 from aquagait.coupling import (
     COUPLED_TOLERANCE,
+    MOSTLY_WATER,
     CoupledProblem,
     face_area,
+    near_body,
     rigid_faces_,
     solve_coupled,
 )
@@ -62,6 +64,12 @@ from aquagait.sim.servo import (
 if TYPE_CHECKING:
     from aquagait.body.model import Model
     from aquagait.sim.scene import Scene, State
+
+NEAR_BODY = 2
+"""Faces within this many cells of the body are advected at first order
+(``EulerFluid.near_body``). The fish's 2-s swim from rest at 1/270 and 1/540 s
+against 1/90 s: -14.1% and -14.4% with BFECC up to the body; -0.3% and -6.5%
+with two cells; -4.7% at 1/540 s with one."""
 
 SMALLEST_STEP = 1e-3
 """A CFL step below this fraction of ``dt`` means the flow has blown up."""
@@ -190,17 +198,22 @@ class EulerFluid:
             (``aquagait.sim.follow``).
         cfl: Courant number: the fastest fluid or body surface moves at most
             this many cells a step.
-        max_dt: default longest step [s]: three steps a 1/30 s frame. The
-            shipped eel2d and fish gaits swim 2 s from rest 8.6% and 11.5%
-            shorter than with steps of 1/300 s (1/150 s: 3.5% and 6.4%;
-            energy 7% and about 13% less at 1/90 s): sub-cell boundaries carry a
-            first-order time-step error (README, "Sub-cell boundaries"; the
-            staircase's is under 1%). Gaits are ranked, and the library's
-            figures measured, at this step.
+        max_dt: default longest step [s]: three steps a 1/30 s frame. Gaits
+            are ranked, and the library's figures measured, at this step;
+            how far a swim moves when it is shortened: README, "Step and
+            grid", and ``aquagait check NAME --convergence``.
         dtype: the precision of the fluid's face velocities between steps and in
             advection, ``np.float64`` or ``np.float32``; the coupled pressure
             solve runs in float64 either way (``benchmarks/precision.py`` and
             README, "Single precision", for what float32 buys).
+        near_body: faces within this many cells of the body are advected at
+            first order (BFECC's own first pass, ``bfecc(first_order=...)``):
+            there the field holds the body's velocity, not an advected one, and
+            BFECC's correction across it made the fish's swim depend on the
+            step (``NEAR_BODY``); -1 corrects everywhere.
+        mostly_water: coupled faces with less water take the body's velocity
+            after every solve (``aquagait.coupling.MOSTLY_WATER``; 0: the water
+            keeps its own on every face with water).
         area: a coupled face's area A [m^2], set by ``bind``.
     """
 
@@ -213,9 +226,19 @@ class EulerFluid:
     cfl: float = 1.0
     max_dt: float = 1 / 90
     dtype: type = np.float64
+    near_body: int = NEAR_BODY
+    mostly_water: float = MOSTLY_WATER
     area: float | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
+        if not (isinstance(self.near_body, int) and self.near_body >= -1):
+            raise ValueError(
+                f"near_body must be a whole number of cells >= -1, got {self.near_body!r}"
+            )
+        if not (isinstance(self.mostly_water, Real) and 0 <= self.mostly_water <= 1):
+            raise ValueError(
+                f"mostly_water must be a water fraction in [0, 1], got {self.mostly_water!r}"
+            )
         if np.dtype(self.dtype) not in PRECISIONS:
             raise ValueError(
                 f"EulerFluid(dtype=...) must be np.float64 or np.float32, got {self.dtype!r}"
@@ -238,7 +261,8 @@ class EulerFluid:
             )
         velocity = grid.zeros_velocity(self.dtype)
         voxels = self._voxels(scene, grid, state.qpos)
-        rigid_faces_(grid, velocity, voxels, scene.dynamics.link_motion(state.qpos, state.qvel))
+        motion = scene.dynamics.link_motion(state.qpos, state.qvel)
+        rigid_faces_(grid, velocity, voxels, motion, self.mostly_water)
         return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
 
     def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
@@ -246,11 +270,13 @@ class EulerFluid:
         grid, q = state.grid, state.qpos
         grid.check_dt(state.velocity, dt)
         voxels = self._voxels(scene, grid, q)
-        advected = advect_velocity(grid, state.velocity, dt, scheme=self.advect)
+        first_order = near_body(grid, voxels, self.near_body) if self.near_body >= 0 else None
+        advected = advect_velocity(grid, state.velocity, dt, self.advect, first_order)
         tau, damping = servo_forces(scene, state, dt, policy)
         qvel_star = state.qvel + dt * predict_body(scene, state, dt, tau, damping)
         solved = self._coupled_solve(scene, state, voxels, advected, qvel_star, dt, damping)
-        rigid_faces_(grid, solved.velocity, voxels, scene.dynamics.link_motion(q, solved.qvel))
+        motion = scene.dynamics.link_motion(q, solved.qvel)
+        rigid_faces_(grid, solved.velocity, voxels, motion, self.mostly_water)
         velocity = tuple(c.astype(self.dtype, copy=False) for c in solved.velocity)
         moved = move_body(scene, state, dt, tau, damping, solved.qvel)
         moved = replace(moved, velocity=velocity, pressure=solved.pressure)
@@ -295,6 +321,8 @@ class EulerFluid:
             "clearance": self.clearance,
             "cfl": self.cfl,
             "dtype": np.dtype(self.dtype).name,
+            "near_body": self.near_body,
+            "mostly_water": self.mostly_water,
         }
 
 
