@@ -210,7 +210,9 @@ class EulerFluid:
             first order (BFECC's own first pass, ``bfecc(first_order=...)``):
             there the field holds the body's velocity, not an advected one, and
             BFECC's correction across it made the fish's swim depend on the
-            step (``NEAR_BODY``); -1 corrects everywhere.
+            step (``NEAR_BODY``); -1 corrects everywhere. The scheme is then
+            passed ``first_order=`` masks (``bfecc`` and ``semi_lagrangian``
+            take them; give -1 with a scheme of your own that does not).
         mostly_water: coupled faces with less water take the body's velocity
             after every solve (``aquagait.coupling.MOSTLY_WATER``; 0: the water
             keeps its own on every face with water).
