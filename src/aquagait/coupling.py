@@ -361,14 +361,18 @@ def near_body(grid: Grid, voxels: Voxels, cells: int) -> Velocity:
         box = tuple(slice(a, b) for a, b in zip(lo, hi, strict=True))
         body[box] = ndimage.binary_dilation(body[box], iterations=cells)
     padded = np.pad(body, 1)
-    near = []
-    for axis in range(grid.dim):
-        n = padded.shape[axis]
-        either = np.take(padded, range(n - 1), axis=axis) | np.take(padded, range(1, n), axis=axis)
-        inner = [slice(1, -1)] * grid.dim
-        inner[axis] = slice(None)
-        near.append(either[tuple(inner)])
-    return tuple(near)
+    return tuple(np.logical_or(*_beside_faces(padded, axis)) for axis in range(grid.dim))
+
+
+def _beside_faces(padded: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    """A cell field padded by one ghost cell a side, read at the cells below and above
+    every face normal to ``axis``: two arrays of the faces' shape."""
+    n = padded.shape[axis]
+    inner = [slice(1, -1)] * padded.ndim
+    inner[axis] = slice(None)
+    below = np.take(padded, range(n - 1), axis=axis)[tuple(inner)]
+    above = np.take(padded, range(1, n), axis=axis)[tuple(inner)]
+    return below, above
 
 
 def _coupled_values(velocity: Velocity, voxels: Voxels, chosen: np.ndarray, axis: int):
@@ -535,13 +539,8 @@ def water_fractions(grid: Grid, voxels: Voxels) -> Velocity:
     water (or water and the open border), 0 next to a solid cell, the coupled
     faces' own fractions where listed."""
     water = np.pad(~voxels.solid, 1, constant_values=True)  # ghosts: open water
-    fractions = []
-    for axis in range(grid.dim):
-        n = water.shape[axis]
-        both = np.take(water, range(n - 1), axis=axis) & np.take(water, range(1, n), axis=axis)
-        inner = [slice(1, -1)] * grid.dim
-        inner[axis] = slice(None)
-        fractions.append(both[tuple(inner)].astype(float))
+    fractions = [np.logical_and(*_beside_faces(water, axis)).astype(float)
+                 for axis in range(grid.dim)]  # fmt: skip
     for axis, fraction in enumerate(fractions):
         on = voxels.face_axis == axis
         fraction[tuple(voxels.face_index[on].T)] = voxels.face_weight[on]
