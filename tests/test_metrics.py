@@ -2,12 +2,16 @@
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 import aquagait as ag
 from aquagait.metrics import (
     UNITS,
     NoSteadyWindow,
+    attitude_metrics,
+    cruise_metrics,
     lateral_excursion,
+    settled_cycle,
     steady_metrics,
     swim_metrics,
     travel_metrics,
@@ -108,7 +112,7 @@ def test_a_tail_swinging_with_known_amplitude_gives_its_strouhal_number(eel):
     assert m["tail_amplitude"] == pytest.approx(amplitude, rel=1e-6)  # float32 mesh vertices
     assert m["steady_speed"] == pytest.approx(speed, rel=1e-9)
     assert m["strouhal"] == pytest.approx(1.0 * amplitude / speed, rel=1e-6)  # f A / U, f = 1 Hz
-    assert set(m) == set(UNITS)
+    assert set(m) == set(UNITS) - {"pitch", "roll", "max_pitch", "max_roll"}  # 3D only
 
 
 def test_strouhal_scales_with_frequency(eel):
@@ -128,6 +132,84 @@ def test_a_body_at_rest_has_undefined_ratios(eel):
     assert m["distance"] == 0 and m["speed_from_rest"] == 0 and m["steady_speed"] == 0
     assert np.isnan(m["cost_of_transport"])  # no energy over no distance
     assert m["strouhal"] == np.inf  # a beating tail that goes nowhere
+
+
+def test_a_swim_settles_when_its_distance_per_cycle_stops_changing(eel):
+    """Speed rising as U (1 - exp(-t / 2 s)): cycle k covers U (1 - 0.787 e^{-(k-1)/2}) of
+    U T, so 0.961, 0.976, 0.986 and 0.991 U T in cycles 7-10: cycle 7 and 9 differ by 2.5 %,
+    8 and 10 by 1.6 %, the first pair within 2 %. Over cycles 8-14 the mean speed is within
+    1.5 % of U; the steady window (cycles 2-14) is 8 % slow."""
+    speed, tau = 0.3, 2.0
+
+    def travelled(t):
+        return speed * (t - tau * (1 - np.exp(-t / tau)))
+
+    traj = synthetic(eel.model, eel_pose(eel, tail=0.4, travelled=travelled), seconds=14.0)
+    m = swim_metrics(eel.model, traj, period=1.0)
+    assert m["settled"] and m["settled_cycle"] == 8
+    assert (m["cruise_start"], m["cruise_end"], m["cruise_cycles"]) == (7.0, 14.0, 7.0)
+    assert m["cruise_speed"] == pytest.approx(speed, rel=0.015)
+    assert m["steady_speed"] < 0.93 * speed
+    assert m["cycle_distances"][0] == pytest.approx(travelled(1.0), rel=1e-9)
+    assert m["cruise_tail_amplitude"] == pytest.approx(2 * 0.1 * np.sin(0.4), rel=1e-6)
+    energy = 0.5 * 7.0  # 0.5 W over the window
+    assert m["cruise_cost_of_transport"] == pytest.approx(
+        energy / (eel.model.mass * (travelled(14.0) - travelled(7.0))), rel=1e-9
+    )
+
+
+def test_a_swim_still_speeding_up_has_not_settled_and_no_cruise_figures(eel):
+    traj = synthetic(eel.model, eel_pose(eel, tail=0.4, travelled=lambda t: 0.05 * t**2), 6.0)
+    m = cruise_metrics(eel.model, traj, period=1.0)
+    assert not m["settled"] and np.isnan(m["settled_cycle"])
+    assert np.isnan(m["cruise_speed"]) and np.isnan(m["cruise_strouhal"])
+    assert m["cycles"] == 6 and len(m["cycle_distances"]) == 6
+    assert settled_cycle([0.1, 0.2]) is None  # too few cycles to tell
+    assert settled_cycle([0.1, 0.2, 0.3, 0.3, 0.3]) == 3
+
+
+def test_the_tail_amplitude_is_taken_per_cycle_so_a_slow_turn_is_not_beat(eel):
+    """The eel swims a circle of 2 m radius at 0.25 m/s, its tail beating +-0.4 rad: over
+    10 cycles its path bends 72 degrees, so the tip's excursion across the window's chord
+    is more than a metre, while each cycle's, across that cycle's own chord, is the beat
+    (the path's sagitta over a cycle, 4 mm, comes on top)."""
+    radius, speed, swing = 2.0, 0.25, 0.4
+    base = eel_pose(eel, tail=swing)
+
+    def pose(t):
+        q = base(t)
+        angle = speed * t / radius
+        q[:3] = radius * np.sin(angle), radius * (1 - np.cos(angle)), angle
+        return q
+
+    m = swim_metrics(eel.model, synthetic(eel.model, pose, seconds=10.0), period=1.0)
+    beat = 2 * 0.1 * np.sin(swing)
+    assert m["tail_amplitude"] == pytest.approx(beat, abs=0.006)
+    assert m["cruise_tail_amplitude"] == pytest.approx(beat, abs=0.006)
+    assert m["settled_cycle"] == 1
+    assert m["heading"] == pytest.approx(np.degrees(speed * 9.5 / radius), abs=0.5)
+
+
+def test_the_attitude_is_the_root_s_mean_turn_from_rest_over_a_cycle():
+    """The fish turned by heading 5, nose up 10 and roll 20 degrees (z-y-x) for its last
+    cycle, its root rocking +-8 degrees of yaw within the stroke; upright before."""
+    fish = ag.creatures.get("fish")
+    rest = fish.model.qpos0.copy()
+    turn = Rotation.from_euler("ZYX", [5.0, -10.0, 20.0], degrees=True)
+
+    def pose(t):
+        q = rest.copy()
+        rock = Rotation.from_euler("z", 8 * np.sin(2 * np.pi * t), degrees=True)
+        root = (turn if t >= 2 else Rotation.identity()) * rock
+        q[3:7] = np.roll(root.as_quat(), 1)  # MuJoCo's w, x, y, z
+        q[0] = 0.05 * t
+        return q
+
+    m = attitude_metrics(fish.model, synthetic(fish.model, pose, seconds=3.0), period=1.0)
+    assert m["heading"] == pytest.approx(5.0, abs=0.1)
+    assert m["pitch"] == pytest.approx(10.0, abs=0.1)
+    assert m["roll"] == pytest.approx(20.0, abs=0.1)
+    assert m["max_roll"] == pytest.approx(20.0, abs=0.1)
 
 
 def test_lateral_excursion_ignores_motion_along_the_direction():

@@ -309,6 +309,8 @@ def _cmd_compare(args) -> int:
         print(f"{fluid:>7} fluid: {forward_distance(run):+.4f} m along x, "
               f"{m['body_lengths_per_cycle_from_rest']:.3f} body lengths per cycle from rest"
               f"{steady}")  # fmt: skip
+        for note in run.grid_notes:
+            print(f"        {note}")
     cross = None
     if args.optimize is not None:
         from aquagait.optimize import ExecutorLost
@@ -337,6 +339,8 @@ def _cmd_compare(args) -> int:
         for trained, swum in cross["distance"].items():
             row = ", ".join(f"in {fluid} {metres:+.4f} m" for fluid, metres in swum.items())
             print(f"gait trained in the {trained} fluid swims {row}")
+        for note in cross["notes"]:
+            print(f"        {note}")
     from aquagait.app import RenderUnavailable
 
     try:

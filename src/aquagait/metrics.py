@@ -25,12 +25,39 @@ figure, named apart:
   accelerates from rest through it; whole cycles because the speed surges
   within a stroke and averages out only over whole ones; the window ends at
   the last frame because the latest cycles are the steadiest.
+- *at cruise*, once the swim has settled (``cruise_metrics``; most 3D
+  creatures need ten cycles or more from rest, so the steady window of a
+  short swim still holds the start). The whole cycles from the start, k = 1,
+  2, ..., n, each swim a distance d_k (the centre of mass's displacement over
+  it); the swim has settled from the first cycle k with |d_{k+2} - d_k| <=
+  ``SETTLED`` d_{k+2} (its distance per cycle changes by less than 2 % over
+  two cycles), and the cruise window is cycles k to n: ``cruise_start``,
+  ``cruise_end``, ``cruise_cycles``, ``cruise_speed``,
+  ``cruise_body_lengths_per_cycle``, ``cruise_tail_amplitude``,
+  ``cruise_strouhal`` and ``cruise_cost_of_transport`` over it (the energy
+  spent in the window over the distance swum in it). ``settled`` says
+  whether it settled, ``settled_cycle`` from which cycle (``nan`` and the
+  cruise figures ``nan`` when it did not), ``cycle_distances`` the d_k.
+- *attitude*, in 3D: the root's orientation against its orientation at rest,
+  averaged over the last whole cycle (a body's head yaws and rolls within a
+  stroke): ``heading``, ``pitch`` and ``roll`` [deg], the z-y-x Euler angles
+  of the turn from rest in the world frame (z up, the creature facing +x at
+  rest): turning left about the vertical, nose up (the turn about +y with
+  its sign flipped), rolling about the long axis (right-handed about +x);
+  and the largest ``|pitch|`` and ``|roll|`` of any whole cycle. In 2D only
+  the turn in the plane, ``heading``.
+
+The tail amplitude is measured cycle by cycle, each across the tip's own
+displacement over that cycle (the chord of its mean path: on a curve the
+tail's chord is not the centre of mass's), and averaged: over many cycles a
+slow turn of the heading would otherwise count as beat.
 
 The centre of mass, not the root, because the root (usually the head) sways;
 in vacuum the centre of mass stays put, whatever the gait does. Lateral means
 perpendicular to the swimming direction over the window (the centre of
 mass's displacement over it), along the principal axis of the tip's motion
-in that perpendicular plane (in 2D simply the in-plane normal). The tail tip
+in that perpendicular plane (in 2D simply the in-plane normal; the tail
+amplitude takes the tip's own displacement, below). The tail tip
 is ``aquagait.body.geometry.tail_tip``: the rearmost point of the body along
 its long axis at the reference pose, fixed to its link.
 
@@ -42,6 +69,7 @@ by less than ``STILL`` body lengths has not moved.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import tail_tip_path
@@ -65,6 +93,23 @@ UNITS = {
     "steady_body_lengths_per_cycle": "1",
     "tail_amplitude": "m",
     "strouhal": "1",
+    "cycles": "1",
+    "cycle_distances": "m",
+    "settled": "1",
+    "settled_cycle": "1",
+    "cruise_start": "s",
+    "cruise_end": "s",
+    "cruise_cycles": "1",
+    "cruise_speed": "m/s",
+    "cruise_body_lengths_per_cycle": "1",
+    "cruise_tail_amplitude": "m",
+    "cruise_strouhal": "1",
+    "cruise_cost_of_transport": "J/(kg m)",
+    "heading": "deg",
+    "pitch": "deg",
+    "roll": "deg",
+    "max_pitch": "deg",
+    "max_roll": "deg",
 }
 """The unit of each entry of ``swim_metrics``'s result."""
 
@@ -90,12 +135,20 @@ STARTING_CYCLES = 1
 """Whole gait cycles at the start that the steady window leaves out (acceleration from rest)."""
 
 
+SETTLED = 0.02
+"""The share by which a settled swim's distance per cycle may change over two cycles."""
+
+SETTLING_CYCLES = 3
+"""The fewest whole cycles in which settling can be told: a cycle, and the one two later."""
+
+
 class NoSteadyWindow(ValueError):
     """The trajectory is too short for steady figures; the message says how long it must be."""
 
 
 def swim_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
-    """All swim metrics: from rest (``travel_metrics``) and steady (``steady_metrics``).
+    """All swim metrics: from rest (``travel_metrics``), steady (``steady_metrics``), at
+    cruise (``cruise_metrics``) and attitude (``attitude_metrics``).
 
     Args:
         model: the creature that swam.
@@ -112,6 +165,8 @@ def swim_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> d
     return {
         **travel_metrics(model, trajectory, period),
         **steady_metrics(model, trajectory, period),
+        **cruise_metrics(model, trajectory, period),
+        **attitude_metrics(model, trajectory, period),
     }
 
 
@@ -161,7 +216,8 @@ def steady_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) ->
     displacement = com[-1] - com[0]
     start, end = float(time[0]), float(time[-1])
     speed = _rounded(np.linalg.norm(displacement), model) / (end - start)
-    amplitude = lateral_excursion(tail_tip_path(model, qpos), displacement)
+    cycles = Cycles(model, Trajectory(time, qpos, *_rest(trajectory, window)), period)
+    amplitude = float(np.mean(cycles.tail_amplitudes()))
     return {
         "steady_start": start,
         "steady_end": end,
@@ -171,6 +227,159 @@ def steady_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) ->
         "tail_amplitude": amplitude,
         "strouhal": _ratio(amplitude / period, speed),
     }
+
+
+def cruise_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
+    """The figures at cruise, once the swim has settled (module docstring).
+
+    Returns:
+        ``cycles`` [1] and ``cycle_distances`` [m] (a list, one per whole cycle from
+        the start), ``settled`` (bool), ``settled_cycle`` [1] (counted from 1, ``nan``
+        if the swim did not settle), and ``cruise_start``, ``cruise_end`` [s],
+        ``cruise_cycles`` [1], ``cruise_speed`` [m/s], ``cruise_body_lengths_per_cycle``
+        [1], ``cruise_tail_amplitude`` [m], ``cruise_strouhal`` [1] and
+        ``cruise_cost_of_transport`` [J/(kg m)], ``nan`` if it did not settle.
+    """
+    _check(model, trajectory, period)
+    cycles = Cycles(model, trajectory, period)
+    distances = cycles.distances()
+    first = settled_cycle(distances)
+    figures = dict.fromkeys(
+        ("cruise_start", "cruise_end", "cruise_cycles", "cruise_speed",
+         "cruise_body_lengths_per_cycle", "cruise_tail_amplitude", "cruise_strouhal",
+         "cruise_cost_of_transport"),
+        float("nan"),
+    )  # fmt: skip
+    if first is not None:
+        window = slice(first - 1, None)
+        start, end = cycles.starts[first - 1], cycles.starts[-1] + period
+        distance = _rounded(cycles.displacement(start, end), model)
+        speed = distance / (end - start)
+        amplitude = float(np.mean(cycles.tail_amplitudes()[window]))
+        figures = {
+            "cruise_start": start,
+            "cruise_end": end,
+            "cruise_cycles": float(distances.size - first + 1),
+            "cruise_speed": speed,
+            "cruise_body_lengths_per_cycle": speed * period / model.body_length,
+            "cruise_tail_amplitude": amplitude,
+            "cruise_strouhal": _ratio(amplitude / period, speed),
+            "cruise_cost_of_transport": _ratio(cycles.energy(start, end), model.mass * distance),
+        }
+    return {
+        "cycles": float(distances.size),
+        "cycle_distances": [float(d) for d in distances],
+        "settled": first is not None,
+        "settled_cycle": float("nan") if first is None else float(first),
+        **figures,
+    }
+
+
+def settled_cycle(distances) -> int | None:
+    """The first cycle (counted from 1) from which a swim is settled at cruise: its distance
+    ``d_k`` and ``d_{k+2}`` differ by at most ``SETTLED`` of ``d_{k+2}``; None if none is.
+
+    Args:
+        distances: (n,) distance swum in each whole cycle from the start [m].
+    """
+    d = np.asarray(distances, dtype=float)
+    for k in range(d.size - 2):
+        if d[k + 2] > 0 and abs(d[k + 2] - d[k]) <= SETTLED * d[k + 2]:
+            return k + 1
+    return None
+
+
+def attitude_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) -> dict:
+    """The root's heading, pitch and roll [deg] over the last whole cycle, and the largest
+    pitch and roll of any whole cycle (module docstring); 2D: ``heading`` only.
+
+    Raises:
+        NoSteadyWindow: the trajectory is shorter than one whole cycle.
+    """
+    _check(model, trajectory, period)
+    cycles = Cycles(model, trajectory, period)
+    if cycles.starts.size == 0:
+        raise NoSteadyWindow(
+            f"the swim lasts less than a gait cycle of {period:.4g} s: no attitude, which is "
+            "averaged over a whole cycle"
+        )
+    angles = cycles.attitudes()  # (n, 3): heading, pitch, roll per cycle
+    if model.dim == 2:
+        return {"heading": float(angles[-1, 0])}
+    return {
+        "heading": float(angles[-1, 0]),
+        "pitch": float(angles[-1, 1]),
+        "roll": float(angles[-1, 2]),
+        "max_pitch": float(np.max(np.abs(angles[:, 1]))),
+        "max_roll": float(np.max(np.abs(angles[:, 2]))),
+    }
+
+
+class Cycles:
+    """A trajectory cut into whole gait cycles from its first frame: ``starts`` (n,) [s].
+
+    Positions and energies between frames are interpolated linearly, so cycles need not
+    begin on a frame.
+    """
+
+    def __init__(self, model: Model, trajectory: Trajectory, period: float):
+        self.model, self.trajectory, self.period = model, trajectory, float(period)
+        time = trajectory.time
+        self.starts = time[0] + period * np.arange(_whole_cycles(time, period))
+        self._com = None
+
+    def distances(self) -> np.ndarray:
+        """(n,) the centre of mass's displacement over each cycle [m]."""
+        return np.array([self.displacement(s, s + self.period) for s in self.starts])
+
+    def displacement(self, start: float, end: float) -> float:
+        """The centre of mass's displacement from ``start`` to ``end`` [s], [m]."""
+        a, b = self._at((start, end), self.com)
+        return float(np.linalg.norm(b - a))
+
+    def energy(self, start: float, end: float) -> float:
+        """Actuator work spent from ``start`` to ``end`` [s], [J]."""
+        a, b = self._at((start, end), self.trajectory.energy.sum(axis=1)[:, None])
+        return float(b[0] - a[0])
+
+    def tail_amplitudes(self) -> np.ndarray:
+        """(n,) the tail tip's peak-to-peak excursion in each cycle across its own
+        displacement over the cycle (the chord of its mean path)."""
+        tail = tail_tip_path(self.model, self.trajectory.qpos)
+        out = []
+        for s in self.starts:
+            a, b = self._at((s, s + self.period), tail)
+            out.append(lateral_excursion(tail[self._frames(s)], b - a))
+        return np.array(out)
+
+    def attitudes(self) -> np.ndarray:
+        """(n, 3) the root's mean heading, pitch and roll [deg] over each cycle, against
+        its orientation at rest (module docstring)."""
+        dynamics = Dynamics(self.model.mj)
+        rest = dynamics.link_poses(self.model.qpos0)[1][0]
+        turned = np.array([dynamics.link_poses(q)[1][0] @ rest.T for q in self.trajectory.qpos])
+        out = []
+        for s in self.starts:
+            u, _, vt = np.linalg.svd(turned[self._frames(s)].mean(axis=0))
+            mean = u @ np.diag([1.0, 1.0, np.linalg.det(u @ vt)]) @ vt  # nearest rotation
+            out.append(Rotation.from_matrix(mean).as_euler("ZYX", degrees=True))
+        return np.array(out) * [1.0, -1.0, 1.0]  # about +y is nose down: pitch counts up
+
+    @property
+    def com(self) -> np.ndarray:
+        if self._com is None:
+            self._com = _centre_of_mass(self.model, self.trajectory.qpos)
+        return self._com
+
+    def _frames(self, start: float) -> np.ndarray:
+        """The frames of the cycle from ``start`` [s], both ends included (rounding forgiven)."""
+        time, slack = self.trajectory.time, 1e-9 * self.period
+        return np.flatnonzero((time >= start - slack) & (time <= start + self.period + slack))
+
+    def _at(self, times, values: np.ndarray) -> np.ndarray:
+        """``values`` (F, k) per frame, interpolated linearly at ``times``."""
+        time = self.trajectory.time
+        return np.stack([np.interp(times, time, column) for column in values.T], axis=1)
 
 
 def steady_window(trajectory: Trajectory, period: float = 1.0) -> np.ndarray:
@@ -227,6 +436,12 @@ def centre_of_mass_path(model: Model, trajectory: Trajectory) -> np.ndarray:
 def _centre_of_mass(model: Model, qpos) -> np.ndarray:
     dynamics = Dynamics(model.mj)
     return np.array([dynamics.center_of_mass(q)[: model.dim] for q in qpos])
+
+
+def _rest(trajectory: Trajectory, frames) -> tuple:
+    """The trajectory's other per-frame arrays at ``frames``, and its dt and fps."""
+    t = trajectory
+    return t.qvel[frames], t.torque[frames], t.energy[frames], t.dt, t.fps
 
 
 def _whole_cycles(time, period: float) -> int:

@@ -37,7 +37,10 @@ def test_a_swim_is_kept_in_its_run_directory(tmp_path, eel):
     calls = []
     run = run_swim(setup, progress=lambda done, total: calls.append((done, total)))
     assert calls[0] == (1, 60) and calls[-1] == (60, 60)
-    assert run.notes == () and run.metrics["tail_amplitude"] > 0  # two cycles: steady figures
+    assert run.metrics["tail_amplitude"] > 0  # two cycles: steady figures
+    (note,) = run.notes  # but too few to tell a cruise
+    assert note.startswith("not yet at cruising speed after 2 cycle(s) (settled: within 2%)")
+    assert not run.metrics["settled"] and run.grid_notes == ()
     out = write_swim(run, tmp_path / "runs" / "eel2d")
     names = {"config.json", "gait.json", "trajectory.npz", "metrics.json"}
     assert {p.name for p in out.iterdir()} == names

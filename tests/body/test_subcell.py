@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from test_voxelize import FRAME, free, planar
 
+import aquagait as ag
 from aquagait.body import Dynamics, load_model
 from aquagait.body.subcell import WEIGHT_FLOOR, voxelize_subcell
 from aquagait.body.voxelize import body_shape
@@ -146,3 +147,25 @@ def test_no_body_in_the_grid_gives_no_solid_and_no_faces():
     voxels = voxelize_subcell(body_shape(model, 0.01), grid, pos, rot)
     assert not voxels.solid.any() and voxels.face_count == 0
     assert voxels.face_index.shape == (0, 2) and voxels.face_center.shape == (0, 3)
+
+
+def test_a_body_symmetric_about_its_swim_plane_gets_mirror_symmetric_fractions():
+    """The fish is symmetric top to bottom, and its joints bend it in the x-y plane; on a
+    grid whose mid-plane is the fish's, the faces' water fractions must mirror to round-off
+    at any bent pose. The signed distance was sampled from its box's lower corner, and the
+    lattice overhung the top by part of a spacing: the fractions differed by up to 0.4%,
+    enough for the fish to pitch 14 degrees over 20 s of a straight swim."""
+    fish = ag.creatures.get("fish")
+    scene = ag.make_scene(fish, fluid="euler")
+    grid = scene.grid
+    pose = fish.model.qpos0.copy()
+    pose[-3:] = 0.3, -0.4, 0.5  # the three joints, about z
+    voxels = voxelize_subcell(scene.shape, grid, *scene.dynamics.link_poses(pose))
+    weight = [np.ones(grid.face_shape(a)) for a in range(3)]
+    faces = zip(voxels.face_axis, voxels.face_index, voxels.face_weight, strict=True)
+    for a, index, w in faces:
+        weight[a][tuple(index)] = min(weight[a][tuple(index)], w)
+    assert voxels.face_count > 1000
+    for a in range(3):
+        np.testing.assert_allclose(weight[a], weight[a][:, :, ::-1], atol=1e-12)
+    np.testing.assert_array_equal(voxels.solid, voxels.solid[:, :, ::-1])

@@ -88,9 +88,9 @@ def test_a_planar_swimmer_without_metadata_gets_defaults_from_its_model(tmp_path
     assert spec.bounds == {"amplitude": (0.0, np.deg2rad(100)), "phase": (-np.pi, np.pi)}
     # a travelling wave: 0.3 rad, 1 rad of lag from joint to joint
     np.testing.assert_allclose(swimmer.default_gait, [0.3, 0.3, 0.0, -1.0])
-    # the tail (8 mm) is two to 2.7 cells thick: 8 / 2 = 4 mm rounds down to 3 mm
-    # (7.5 mm measured at the L/400 sampling gives 3.75 mm, rounded down the same)
-    assert swimmer.cell_size == 0.003
+    # the tail (8 mm, measured 8 mm: the sampling lattice has a sample on its mid-plane) is
+    # two cells of 8 / 2 = 4 mm thick, a mantissa the cell size is rounded down to
+    assert swimmer.cell_size == 0.004
     assert_default_grid_fits(swimmer)
     assert swimmer.energy_bound == pytest.approx(5 * swimmer.model.mass * 0.3**2)
     assert swimmer.energy_weight == 1.0  # paper §4

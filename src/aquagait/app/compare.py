@@ -109,9 +109,11 @@ def cross_optimize(
         if run_dir is not None:
             write_optimization(setup, result, run_dir, plot=False)
         gaits[fluid], objective[fluid] = result.best_x, float(result.best_f)
-    distance, per_cycle = {}, {}
+    distance, per_cycle, notes = {}, {}, []
     for trained, params in gaits.items():
         runs = swim_both(name, gait=params, seconds=seconds, **grid)
+        notes += [f"gait trained in {trained}, in {f}: {n}" for f, r in runs.items()
+                  for n in r.grid_notes]  # fmt: skip
         distance[trained] = {f: forward_distance(r) for f, r in runs.items()}
         per_cycle[trained] = {
             f: r.metrics["body_lengths_per_cycle_from_rest"] for f, r in runs.items()
@@ -124,6 +126,7 @@ def cross_optimize(
         "seed": seed,
         "generations": generations,
         "start": None if start is None else str(start),
+        "notes": notes,
     }
 
 

@@ -48,7 +48,15 @@ from aquagait.path import (
     root_pose,
     shape,
 )
-from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
+from aquagait.sim import (
+    FRAMES_PER_SECOND,
+    Scene,
+    Trajectory,
+    growth_notes,
+    init_state,
+    make_scene,
+    rollout,
+)
 
 DEFAULT_CYCLES = 10
 DEAD_BAND = 0.1
@@ -204,8 +212,9 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
     sines = {name: spec.unpack(x) for name, (spec, x, _) in library.items()}
     follower = Follower(scene, sines, creature.servo, setup.path, setup.period,
                         setup.dead_band, setup.blend)  # fmt: skip
-    trajectory = rollout(scene, init_state(scene), None, setup.seconds, fps=setup.fps,
-                         progress=progress, plan=follower)  # fmt: skip
+    with growth_notes() as grew:
+        trajectory = rollout(scene, init_state(scene), None, setup.seconds, fps=setup.fps,
+                             progress=progress, plan=follower)  # fmt: skip
     positions = np.array([root_pose(scene, q)[0] for q in trajectory.qpos])
     distance = np.array([setup.path.distance(p) for p in positions])
     metrics = travel_metrics(creature.model, trajectory, setup.period)
@@ -219,10 +228,10 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
     metrics["path_progress_body_lengths"] = progress / length
     unlearned = sum(d.unlearned for d in follower.decisions)
     metrics["unlearned_requests"] = unlearned
-    notes = ()
+    notes = tuple(grew)
     if unlearned:
         wanted = sorted({d.wanted for d in follower.decisions if d.unlearned})
-        notes = (f"{unlearned} cycle(s) asked for {', '.join(wanted)}, not learned: "
+        notes += (f"{unlearned} cycle(s) asked for {', '.join(wanted)}, not learned: "
                  "swum straight instead",)  # fmt: skip
     config = follow_config(setup, trajectory)
     return FollowRun(setup, trajectory, follower.decisions, distance, metrics, config, notes)
@@ -258,7 +267,8 @@ def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> Fil
             files are written, the message says what to install.
     """
     creature = run.setup.creature
-    out = write_run(out, run.trajectory, run.config, run.metrics, model=creature.model)
+    config = {**run.config, "notes": list(run.notes)}
+    out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
     axes = "xyz"[: creature.dim]
     _write_csv(out / "path.csv", [f"{a}_m" for a in axes], run.setup.path.points)
     _write_csv(

@@ -99,9 +99,10 @@ def _scene(name: str, resolution, cell_size, fluid: str, clearance=None) -> tupl
 
 
 def _fluid(fluid: str, clearance: float | None) -> FluidModel:
-    """The fluid model an objective swims in: by name, the Euler fluid with its clearance."""
-    if fluid == "euler" and clearance is not None:
-        return EulerFluid(clearance=clearance)
+    """The fluid model an objective swims in: by name; the Euler fluid with its clearance,
+    on a grid that does not grow (a sample that leaves it is penalized)."""
+    if fluid == "euler":
+        return EulerFluid(grow=False, **({} if clearance is None else {"clearance": clearance}))
     return fluid_model(fluid)
 
 

@@ -25,8 +25,23 @@ from aquagait.app.resolve import creature_key, find_creature, find_gait
 from aquagait.creatures import Creature, CreatureError
 from aquagait.io.gait import write_gait
 from aquagait.io.run import library_versions, write_run
-from aquagait.metrics import NoSteadyWindow, steady_metrics, travel_metrics
-from aquagait.sim import FRAMES_PER_SECOND, Scene, Trajectory, init_state, make_scene, rollout
+from aquagait.metrics import (
+    SETTLED,
+    NoSteadyWindow,
+    attitude_metrics,
+    cruise_metrics,
+    steady_metrics,
+    travel_metrics,
+)
+from aquagait.sim import (
+    FRAMES_PER_SECOND,
+    Scene,
+    Trajectory,
+    growth_notes,
+    init_state,
+    make_scene,
+    rollout,
+)
 
 
 class SwimSetupError(SetupError):
@@ -73,7 +88,8 @@ class SwimRun:
     """A finished swim: its ``setup``, ``trajectory``, ``metrics`` and resolved ``config``.
 
     ``notes`` says what could not be measured (e.g. a swim shorter than two
-    cycles has no steady speed or Strouhal number).
+    cycles has no steady speed or Strouhal number); ``grid_notes`` when and how the
+    body outgrew its grid, which grew (``aquagait.sim.GridGrew``).
     """
 
     setup: SwimSetup
@@ -81,6 +97,7 @@ class SwimRun:
     metrics: dict
     config: dict
     notes: tuple[str, ...] = field(default=())
+    grid_notes: tuple[str, ...] = field(default=())
 
 
 def prepare_swim(
@@ -164,16 +181,39 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
     creature, scene = setup.creature, setup.scene
     policy = creature.policy(setup.params, setup.maneuver)
     steps = {} if setup.dt is None else {"dt": setup.dt}
-    trajectory = rollout(
-        scene, init_state(scene), policy, setup.seconds, fps=setup.fps, progress=progress, **steps
-    )
-    metrics = travel_metrics(creature.model, trajectory, setup.period)
-    notes = ()
+    with growth_notes() as grew:
+        trajectory = rollout(scene, init_state(scene), policy, setup.seconds, fps=setup.fps,
+                             progress=progress, **steps)  # fmt: skip
+    metrics, notes = measure(creature.model, trajectory, setup.period)
+    config = swim_config(setup, trajectory)
+    return SwimRun(setup, trajectory, metrics, config, notes, tuple(grew))
+
+
+def measure(model, trajectory: Trajectory, period: float) -> tuple[dict, tuple[str, ...]]:
+    """A swim's metrics (``aquagait.metrics``): all that its length allows, and notes on
+    what it does not (no steady window, not settled at cruise)."""
+    metrics = travel_metrics(model, trajectory, period)
     try:
-        metrics.update(steady_metrics(creature.model, trajectory, setup.period))
+        metrics.update(steady_metrics(model, trajectory, period))
     except NoSteadyWindow as err:
-        notes = (str(err),)
-    return SwimRun(setup, trajectory, metrics, swim_config(setup, trajectory), notes)
+        return metrics, (str(err),)
+    metrics.update(cruise_metrics(model, trajectory, period))
+    metrics.update(attitude_metrics(model, trajectory, period))
+    if metrics["settled"]:
+        return metrics, ()
+    d = metrics["cycle_distances"]
+    change = (
+        ""
+        if len(d) < 3
+        else (
+            f": the last cycle swam {d[-1]:.3g} m, {abs(d[-1] - d[-3]) / d[-1]:.1%} more or less "
+            "than two before"
+        )
+    )
+    return metrics, (
+        f"not yet at cruising speed after {len(d)} cycle(s){change} (settled: within "
+        f"{SETTLED:.0%}); no cruise figures: swim longer (--seconds)",
+    )
 
 
 def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
@@ -218,7 +258,8 @@ def run_config(command: str, creature: Creature, scene: Scene, trajectory: Traje
 
 
 def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progress=None) -> Path:
-    """Write the run directory: config.json, gait.json, trajectory.npz, metrics.json.
+    """Write the run directory: config.json (with the run's notes), gait.json,
+    trajectory.npz, metrics.json.
 
     Args:
         run: from ``run_swim``.
@@ -233,7 +274,8 @@ def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progre
             files are written, the message says what to install.
     """
     creature = run.setup.creature
-    config = {**run.config, **(extra_config or {})}
+    notes = [*run.grid_notes, *run.notes]
+    config = {**run.config, "notes": notes, **(extra_config or {})}
     out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
     write_gait(out / "gait.json", creature, run.setup.params, run.setup.maneuver)
     if video:
@@ -247,17 +289,32 @@ def swim_summary(run: SwimRun, out=None) -> str:
     lines = [
         f"{setup.creature.name} swam {m['distance']:.3f} m in {m['duration']:.2f} s "
         f"({setup.scene.fluid.name} fluid), from rest: {m['speed_from_rest']:.3f} m/s, "
-        f"{m['body_lengths_per_cycle_from_rest']:.2f} body lengths per cycle",
-        f"energy {m['energy']:.3g} J, cost of transport {m['cost_of_transport']:.3g} J/(kg m)",
-        *run.notes,
+        f"{m['body_lengths_per_cycle_from_rest']:.2f} body lengths per cycle"
     ]
-    if "steady_speed" in m:
-        lines.insert(
-            1,
+    if m.get("settled"):
+        lines.append(
+            f"at cruise from cycle {m['settled_cycle']:.0f} ({m['cruise_start']:g}-"
+            f"{m['cruise_end']:g} s): {m['cruise_speed']:.3f} m/s, "
+            f"{m['cruise_body_lengths_per_cycle']:.2f} body lengths per cycle, Strouhal number "
+            f"{m['cruise_strouhal']:.3g}, cost of transport {m['cruise_cost_of_transport']:.3g} "
+            "J/(kg m)"
+        )
+    elif "steady_speed" in m:
+        lines.append(
             f"steady over {m['steady_start']:g}-{m['steady_end']:g} s: {m['steady_speed']:.3f} "
             f"m/s, {m['steady_body_lengths_per_cycle']:.2f} body lengths per cycle, "
-            f"Strouhal number {m['strouhal']:.3g}",
+            f"Strouhal number {m['strouhal']:.3g}"
         )
+    lines.append(
+        f"energy {m['energy']:.3g} J, cost of transport {m['cost_of_transport']:.3g} J/(kg m)"
+    )
+    if "roll" in m:
+        lines.append(
+            f"attitude over the last cycle: heading {m['heading']:+.1f}, pitch "
+            f"{m['pitch']:+.1f}, roll {m['roll']:+.1f} deg (largest pitch {m['max_pitch']:.1f}, "
+            f"roll {m['max_roll']:.1f})"
+        )
+    lines.extend((*run.grid_notes, *run.notes))
     if out is not None:
         files = sorted(p.name for p in Path(out).iterdir() if p.is_file())
         lines.append(f"wrote {out}{'/' if not str(out).endswith('/') else ''}: {', '.join(files)}")

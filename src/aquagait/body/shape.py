@@ -222,9 +222,13 @@ def _bake_link(facts, faces, geoms, k, bounds, spacing, dim):
     if geoms.size == 0:
         return np.zeros((0, 0, 0)), np.zeros(3)
     origin = facts.link_pos[k]
-    lo = bounds[0] - PAD * spacing
-    hi = bounds[1] + PAD * spacing
-    counts = np.ceil((hi - lo) / spacing).astype(int) + 1
+    half = np.ceil(0.5 * (bounds[1] - bounds[0]) / spacing + PAD - 1e-9).astype(int)
+    counts = 2 * half + 1
+    # centred on the box, a sample in its middle: a link symmetric about a plane through
+    # its box's middle is sampled symmetrically, its mid-plane too (the lattice from the
+    # lower corner overhung the upper one by up to a spacing: the fish's face fractions
+    # differed by 0.4% top to bottom, and over 20 s it pitched 14 degrees)
+    lo = 0.5 * (bounds[0] + bounds[1]) - half * spacing
     if dim == 2:
         lo[2], counts[2] = 0.0, 1  # the cross-section at z = 0
     axes = [lo[a] + spacing * np.arange(counts[a]) for a in range(3)]

@@ -15,7 +15,7 @@ the recorded flow, for pictures and exports).
 """
 
 from aquagait.sim.fluids import FLUIDS, EulerFluid, FluidModel, SimpleFluid, Vacuum, fluid_model
-from aquagait.sim.follow import CLEARANCE, BodyOutsideGrid
+from aquagait.sim.follow import CLEARANCE, BodyOutsideGrid, GridGrew, growth_notes
 from aquagait.sim.frames import FluidFrames
 from aquagait.sim.rollout import FRAMES_PER_SECOND, Trajectory, advance, rollout, step
 from aquagait.sim.scene import Scene, State, init_state, make_scene
@@ -29,6 +29,7 @@ __all__ = [
     "EulerFluid",
     "FluidFrames",
     "FluidModel",
+    "GridGrew",
     "Scene",
     "SimpleFluid",
     "SimulationDiverged",
@@ -38,6 +39,7 @@ __all__ = [
     "Vacuum",
     "advance",
     "fluid_model",
+    "growth_notes",
     "init_state",
     "make_scene",
     "rollout",

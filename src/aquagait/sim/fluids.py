@@ -216,6 +216,10 @@ class EulerFluid:
         mostly_water: coupled faces with less water take the body's velocity
             after every solve (``aquagait.coupling.MOSTLY_WATER``; 0: the water
             keeps its own on every face with water).
+        grow: a body that outgrows the grid grows it (``aquagait.sim.follow``,
+            with a ``GridGrew`` warning); False raises ``BodyOutsideGrid``, as
+            an optimization's samples do (a gait that leaves its grid within
+            the sample is penalized, not paid for with a larger grid).
         area: a coupled face's area A [m^2], set by ``bind``.
     """
 
@@ -230,6 +234,7 @@ class EulerFluid:
     dtype: type = np.float64
     near_body: int = NEAR_BODY
     mostly_water: float = MOSTLY_WATER
+    grow: bool = True
     area: float | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
@@ -282,7 +287,7 @@ class EulerFluid:
         velocity = tuple(c.astype(self.dtype, copy=False) for c in solved.velocity)
         moved = move_body(scene, state, dt, tau, damping, solved.qvel)
         moved = replace(moved, velocity=velocity, pressure=solved.pressure)
-        return follow(scene, moved, self.clearance)
+        return follow(scene, moved, self.clearance, self.grow)
 
     def _voxels(self, scene: Scene, grid: Grid, q) -> Voxels:
         return self.boundary(scene.shape, grid, *scene.dynamics.link_poses(q))
@@ -325,6 +330,7 @@ class EulerFluid:
             "dtype": np.dtype(self.dtype).name,
             "near_body": self.near_body,
             "mostly_water": self.mostly_water,
+            "grow": self.grow,
         }
 
 

@@ -6,9 +6,14 @@ far from the body is that the same as the ocean. The grid therefore keeps
 (the box of every link's geoms, turned with the link): when a step leaves
 the box nearer a wall than that, the grid shifts by whole cells
 (``aquagait.fluid.shift``: no value moves between sample points) to centre
-the box along that axis. A body too large to fit even then raises
-``BodyOutsideGrid``, and ``check_room`` refuses such a grid before anything
-is simulated, naming the smallest resolution that would do.
+the box along that axis. A body that grew too large to fit even then (it
+turned out of its plane, spread its fins) grows the grid instead, with a
+``GridGrew`` warning: the cells added hold still water, which the open
+boundary already assumed there, so the swim goes on as it would have in the
+larger grid from the start, only slower a step (an optimization's samples
+raise ``BodyOutsideGrid`` instead, and are penalized). ``check_room`` refuses
+a grid too small for the body at rest before anything is simulated, naming
+the smallest resolution that would do.
 
 Whichever happens, the step sets the faces that touch the body from its pose
 at the start of the step, in the grid it was solved on, and only then shifts
@@ -18,6 +23,8 @@ the fields: the same rule whether or not the grid moves.
 from __future__ import annotations
 
 import math
+import warnings
+from contextlib import contextmanager
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -25,7 +32,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from aquagait.body.shape import link_box_corners, world_bounds
-from aquagait.fluid.shift import shift
+from aquagait.fluid.shift import regrid
 from aquagait.grid import Grid
 from aquagait.sim.servo import SimulationDiverged, SimulationError
 
@@ -45,8 +52,18 @@ grid of a wall, which let the eel's snout reach the last cells) was measured
 at 1.6% and 0.016 rad (issue 9)."""
 
 
+GROWTH_MULTIPLE = 8
+"""A grid that grows grows to a multiple of this many cells along each axis it grows on:
+some room for the next turn of the body, and halvings for the multigrid."""
+
+
 class BodyOutsideGrid(SimulationError):
-    """The body came nearer a wall than the clearance, and no shift could make room."""
+    """The body came nearer a wall than the clearance, no shift could make room, and the
+    grid may not grow (``EulerFluid(grow=False)``, as an optimization's samples swim)."""
+
+
+class GridGrew(UserWarning):
+    """The body outgrew its grid, which grew (``follow``): the swim goes on, slower a step."""
 
 
 def body_bounds(scene: Scene, q) -> np.ndarray:
@@ -125,12 +142,15 @@ def room(grid: Grid, bounds: np.ndarray) -> np.ndarray:
     return np.minimum(bounds[0] - lo, hi - bounds[1]) / grid.cell_size
 
 
-def follow(scene: Scene, state: State, clearance: float) -> State:
+def follow(scene: Scene, state: State, clearance: float, grow: bool = True) -> State:
     """Shift the grid by whole cells to centre the body along every axis where it came
-    nearer a wall than ``clearance`` cells; fields move with the grid.
+    nearer a wall than ``clearance`` cells; fields move with the grid. Where no shift
+    makes room, the grid grows (``grow``, ``GridGrew``) to ``smallest_resolution``
+    rounded up to ``GROWTH_MULTIPLE`` cells along those axes, centred on the body.
 
     Raises:
-        BodyOutsideGrid: the body is too large for the grid along some axis.
+        BodyOutsideGrid: the body is too large for the grid along some axis, and
+            ``grow`` is off.
     """
     grid = state.grid
     bounds = body_bounds(scene, state.qpos)
@@ -144,19 +164,55 @@ def follow(scene: Scene, state: State, clearance: float) -> State:
     near = space < clearance
     if not near.any():
         return state
-    middle = np.asarray(grid.origin) + 0.5 * np.asarray(grid.extent)
-    offset = np.round((0.5 * (bounds[0] + bounds[1]) - middle) / grid.cell_size)
+    needed = np.asarray(smallest_resolution(bounds, grid.cell_size, clearance))
+    shape = np.asarray(grid.shape)
+    small = near & (needed > shape)
+    if small.any():
+        if not grow:
+            raise BodyOutsideGrid(
+                f"at t = {state.time:.4g} s the body ({_sides(bounds)} m) no longer fits in "
+                f"the {_cells(grid.shape)} grid of {grid.cell_size:g} m cells with "
+                f"{clearance:g} cells of water on every side; use at least "
+                f"{_cells(np.maximum(needed, shape))} cells (--resolution), "
+                "or larger cells (--cell-size)"
+            )
+        shape = np.where(small, -(-needed // GROWTH_MULTIPLE) * GROWTH_MULTIPLE, shape)
+        near = near | small
+    centre = 0.5 * (bounds[0] + bounds[1])
+    corner = centre - 0.5 * shape * grid.cell_size  # the lower corner that centres the body
+    offset = np.round((corner - np.asarray(grid.origin)) / grid.cell_size)
     cells = tuple(int(c) for c in np.where(near, offset, 0))
-    moved, velocity, pressure = shift(grid, state.velocity, cells, state.pressure)
-    if np.any(room(moved, bounds) < clearance):
-        needed = np.maximum(smallest_resolution(bounds, grid.cell_size, clearance), grid.shape)
-        raise BodyOutsideGrid(
-            f"at t = {state.time:.4g} s the body ({_sides(bounds)} m) no longer fits in the "
-            f"{_cells(grid.shape)} grid of {grid.cell_size:g} m cells with {clearance:g} cells "
-            f"of water on every side; use at least {_cells(needed)} cells (--resolution), "
-            "or larger cells (--cell-size)"
+    moved, velocity, pressure = regrid(grid, state.velocity, cells, shape, state.pressure)
+    if small.any():
+        warnings.warn(
+            GridGrew(
+                f"at t = {state.time:.4g} s the body ({_sides(bounds)} m) outgrew the "
+                f"{_cells(grid.shape)} grid of {grid.cell_size:g} m cells: it grew to "
+                f"{_cells(moved.shape)}, still water added where the open boundary assumed it "
+                f"({moved.cell_count / grid.cell_count:.2f}x the cells, and the time a step)"
+            ),
+            stacklevel=2,
         )
     return replace(state, grid=moved, velocity=velocity, pressure=pressure)
+
+
+@contextmanager
+def growth_notes():
+    """Collect the ``GridGrew`` warnings of the swims within: yields the list their messages
+    go into, for a run's notes; other warnings pass on as before."""
+    notes = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", GridGrew)
+        previous = warnings.showwarning
+
+        def note(message, category, *where, **more):
+            if issubclass(category, GridGrew):
+                notes.append(str(message))
+            else:
+                previous(message, category, *where, **more)
+
+        warnings.showwarning = note
+        yield notes
 
 
 def check_room(model: Model, grid: Grid, clearance: float) -> None:

@@ -21,7 +21,6 @@ import numpy as np
 
 from aquagait.body.voxelize import voxelize
 from aquagait.fluid.operators import cell_centered
-from aquagait.grid import Grid
 
 if TYPE_CHECKING:
     from aquagait.sim.scene import Scene, State
@@ -61,26 +60,42 @@ class FluidFrames:
         return self.solid.shape[1:]
 
 
-def fluid_frame(scene: Scene, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One frame's (origin, velocity, solid) as ``FluidFrames`` keeps it (module docstring)."""
+def fluid_frame(scene: Scene, state: State, blocks: int | None = None) -> tuple:
+    """One frame's (origin, velocity, solid) as ``FluidFrames`` keeps it (module docstring),
+    in 3D over blocks of ``blocks`` cells (default this grid's ``stride``; a rollout keeps
+    its first grid's, should the grid grow)."""
     grid = state.grid
+    blocks = stride(grid.shape) if blocks is None else blocks
     centred = cell_centered(grid, state.velocity)
     solid = voxelize(scene.shape, grid, *scene.dynamics.link_poses(state.qpos)).solid
     if grid.dim == 2:
         return np.asarray(grid.origin, float), centred.astype(np.float32), solid
-    s = stride(grid.shape)
     return (
         np.asarray(grid.origin, float),
-        np.stack([_blocks(c, s) for c in centred]).astype(np.float16),
-        _blocks(solid.astype(np.float32), s) > 0.5,
+        np.stack([_blocks(c, blocks) for c in centred]).astype(np.float16),
+        _blocks(solid.astype(np.float32), blocks) > 0.5,
     )
 
 
-def fluid_frames(grid: Grid, frames: list[tuple]) -> FluidFrames:
-    """``FluidFrames`` from the ``fluid_frame`` records of a rollout on ``grid`` (shape, h)."""
-    origin, velocity, solid = (np.stack(column) for column in zip(*frames, strict=True))
-    blocks = 1 if grid.dim == 2 else stride(grid.shape)
-    return FluidFrames(grid.cell_size * blocks, origin, velocity, solid)
+def fluid_frames(cell_size: float, frames: list[tuple], blocks: int = 1) -> FluidFrames:
+    """``FluidFrames`` from the ``fluid_frame`` records of a rollout on a grid of
+    ``cell_size`` [m] cells, kept over ``blocks`` of them. A grid that grew during the swim
+    (``aquagait.sim.follow``) left earlier frames on a smaller lattice: they are padded to
+    the largest at their far side with still water, as the open boundary had it."""
+    shape = np.max([solid.shape for _, _, solid in frames], axis=0)
+    origin = np.stack([o for o, _, _ in frames])
+    velocity = np.stack([_padded(v, (len(shape), *shape)) for _, v, _ in frames])
+    solid = np.stack([_padded(solid, shape) for _, _, solid in frames])
+    return FluidFrames(cell_size * blocks, origin, velocity, solid)
+
+
+def _padded(field: np.ndarray, shape) -> np.ndarray:
+    """``field`` in the lower corner of zeros of ``shape`` (itself when it has that shape)."""
+    if field.shape == tuple(shape):
+        return field
+    out = np.zeros(shape, dtype=field.dtype)
+    out[tuple(slice(0, n) for n in field.shape)] = field
+    return out
 
 
 def stride(shape) -> int:

@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from aquagait.sim.frames import FluidFrames, fluid_frame, fluid_frames
+from aquagait.sim.frames import FluidFrames, fluid_frame, fluid_frames, stride
 from aquagait.sim.scene import Scene, State
 
 FRAMES_PER_SECOND = 30
@@ -104,15 +104,16 @@ def rollout(
     total = int(round(seconds * fps))
     start = state.time
     has_flow = record_fluid and state.velocity is not None
+    blocks = 1 if not has_flow or state.grid.dim == 2 else stride(state.grid.shape)
     frames = [_small(state)]  # a frame's fluid is recorded as it comes, not kept whole
-    fluid = [fluid_frame(scene, state)] if has_flow else None
+    fluid = [fluid_frame(scene, state, blocks)] if has_flow else None
     for k in range(1, total + 1):
         if plan is not None:
             policy = plan(state)
         state = advance(scene, state, policy, start + k / fps, dt)
         frames.append(_small(state))
         if has_flow:
-            fluid.append(fluid_frame(scene, state))
+            fluid.append(fluid_frame(scene, state, blocks))
         if progress is not None:
             progress(k, total)
     return Trajectory(
@@ -123,7 +124,7 @@ def rollout(
         energy=np.stack([s.energy for s in frames]),
         dt=dt,
         fps=float(fps),
-        fluid=fluid_frames(state.grid, fluid) if has_flow else None,
+        fluid=fluid_frames(state.grid.cell_size, fluid, blocks) if has_flow else None,
     )
 
 
