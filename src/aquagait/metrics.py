@@ -32,10 +32,12 @@ figure, named apart:
   it); the swim has settled from the first cycle k with |d_{k+2} - d_k| <=
   ``SETTLED`` d_{k+2} (its distance per cycle changes by less than 2 % over
   two cycles), and the cruise window is cycles k to n: ``cruise_start``,
-  ``cruise_end``, ``cruise_cycles``, ``cruise_speed``,
+  ``cruise_end``, ``cruise_cycles``, ``cruise_speed`` (the sum of the
+  window's d_k over its duration: a swimmer that turns is measured along its
+  path, cycle by cycle, not by where it ended up),
   ``cruise_body_lengths_per_cycle``, ``cruise_tail_amplitude``,
   ``cruise_strouhal`` and ``cruise_cost_of_transport`` over it (the energy
-  spent in the window over the distance swum in it). ``settled`` says
+  spent in the window over that distance). ``settled`` says
   whether it settled, ``settled_cycle`` from which cycle (``nan`` and the
   cruise figures ``nan`` when it did not), ``cycle_distances`` the d_k.
 - *attitude*, in 3D: the root's orientation against its orientation at rest,
@@ -253,7 +255,7 @@ def cruise_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) ->
     if first is not None:
         window = slice(first - 1, None)
         start, end = cycles.starts[first - 1], cycles.starts[-1] + period
-        distance = _rounded(cycles.displacement(start, end), model)
+        distance = _rounded(float(np.sum(distances[window])), model)
         speed = distance / (end - start)
         amplitude = float(np.mean(cycles.tail_amplitudes()[window]))
         figures = {

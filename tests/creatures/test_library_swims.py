@@ -1,10 +1,13 @@
-"""Every library creature swims its shipped gait: forward, straight, within its energy bound.
+"""Every library creature swims its shipped gait for twenty cycles from rest: forward,
+within its energy bound, upright, and, at cruise, as the animal does.
 
-Slow (four cycles of every creature on its default grid: several minutes);
-run with ``python3 -m pytest -m slow tests/creatures/test_library_swims.py -s``
-to see each creature's body lengths per cycle, Strouhal number and cost of
-transport (the issue's table).
+Slow (twenty cycles of every creature on its default grid: about 15 minutes on one
+core); run with ``python3 -m pytest -m slow tests/creatures/test_library_swims.py -s``
+to see each creature's README Table 1 row: body lengths per cycle from rest, cycles to
+settle, and at cruise body lengths per cycle, Strouhal number and cost of transport.
 """
+
+import functools
 
 import numpy as np
 import pytest
@@ -15,9 +18,15 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import TailTip, tail_tip, tail_tip_path
 from aquagait.metrics import centre_of_mass_path, lateral_excursion
 
-CYCLES = 4
+CYCLES = 20
 STRAIGHT_DEGREES = 15.0
-"""The heading (the way the root travels over the last two of four cycles) allowed off +x."""
+"""The heading (the way the root travels over the last two cycles) allowed off +x."""
+
+UPRIGHT_DEGREES = 30.0
+"""The largest pitch and roll of any cycle (``aquagait.metrics.attitude_metrics``) allowed
+over the twenty. Open loop, nothing rights a swimmer in this fluid (no gravity, no fins that
+correct), and a wake that loses its symmetry turns it slowly: eel3d rolls up to 23 degrees
+and pitches 15, the alien rolls 14, the fish pitches 8 (issue 32's figures)."""
 
 ANGUILLIFORM = {"eel2d", "eel3d"}
 """Swimmers that undulate the whole body; the fish is carangiform."""
@@ -25,6 +34,19 @@ ANGUILLIFORM = {"eel2d", "eel3d"}
 DRIFTS = {"turtle2d"}
 """Creatures that cannot swim straight open-loop (paper §7: the 2D turtle pitches; it needs
 path following, issue 13)."""
+
+PITCHING = {
+    "manta": "its flapping pitches it nose up some 10 degrees a cycle by the fifth: it loops",
+    "frog": "its kick pitches it nose down about 5 degrees a cycle: 85 degrees by cycle 20",
+}
+"""Shipped gaits whose stroke pitches the body steadily: a trim of their offsets (an
+attitude-keeping layer, or a search that sees more than two cycles) must right them."""
+
+
+@functools.cache
+def long_swim(name):
+    """The shipped gait's swim of ``CYCLES`` cycles from rest on the default grid."""
+    return run_swim(prepare_swim(name, seconds=float(CYCLES)))
 
 
 def heading_change(creature, trajectory) -> float:
@@ -36,23 +58,46 @@ def heading_change(creature, trajectory) -> float:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", sorted(set(ag.creatures.names()) - {"accordion2d"}))
-def test_the_shipped_gait_swims_forward_straight_within_its_energy_bound(name):
+@pytest.mark.parametrize("name", sorted(ag.creatures.names()))
+def test_the_shipped_gait_swims_forward_within_its_energy_bound_and_settles(name):
     creature = ag.creatures.get(name)
-    run = run_swim(prepare_swim(name, seconds=float(CYCLES)))
+    run = long_swim(name)
     m, traj = run.metrics, run.trajectory
-    turn = heading_change(creature, traj)
     two_cycles = traj.energy[2 * 30].sum()  # the objective's energy: the first two cycles
-    print(f"{name}: {m['body_lengths_per_cycle_from_rest']:.3f} BL/cycle from rest, "
-          f"{m['steady_body_lengths_per_cycle']:.3f} steady, Strouhal {m['strouhal']:.3g}, "
-          f"cost of transport {m['cost_of_transport']:.3g} J/(kg m), heading {turn:.1f} deg, "
-          f"energy {two_cycles:.3g} of {creature.energy_bound:.3g} J")  # fmt: skip
+    print(f"\n| `{name}` | {m['body_lengths_per_cycle_from_rest']:.3f} | "
+          f"{m['settled_cycle']:.0f} | {m['cruise_body_lengths_per_cycle']:.3f} | "
+          f"{m['cruise_strouhal']:.2f} | {m['cruise_cost_of_transport']:.3g} | "
+          f"energy {two_cycles:.3g} of {creature.energy_bound:.3g} J; "
+          f"{' '.join(run.grid_notes) or 'grid kept'}")  # fmt: skip
     # forward: 0.02 body lengths a cycle at least, beyond a body's recoil (the hand-set
     # alien, slowest, measured 0.047; the optimized ones swim ten times that)
     assert m["distance"] > 0.02 * creature.model.body_length * CYCLES
     assert two_cycles <= 1.05 * creature.energy_bound  # the objective lets it just past
-    if name not in DRIFTS:
-        assert turn < STRAIGHT_DEGREES
+    assert m["settled"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(n, marks=pytest.mark.xfail(reason=PITCHING[n], strict=True))
+        if n in PITCHING
+        else n
+        for n in sorted(set(ag.creatures.names()) - DRIFTS)
+    ],
+)
+def test_the_shipped_gait_keeps_its_heading_and_stays_upright_for_twenty_cycles(name):
+    creature = ag.creatures.get(name)
+    run = long_swim(name)
+    m = run.metrics
+    turn = heading_change(creature, run.trajectory)
+    attitude = "" if creature.dim == 2 else (
+        f", largest pitch {m['max_pitch']:.1f} and roll {m['max_roll']:.1f} deg"
+    )  # fmt: skip
+    print(f"{name}: heading {turn:.1f} deg off +x{attitude}")
+    assert turn < STRAIGHT_DEGREES
+    if creature.dim == 3:
+        assert max(m["max_pitch"], m["max_roll"]) < UPRIGHT_DEGREES
 
 
 def joint_phases(creature, trajectory, period: float = 1.0) -> np.ndarray:
@@ -90,12 +135,14 @@ def test_fish_and_eels_bend_in_a_wave_travelling_head_to_tail(name):
     than a tenth of it); a carangiform fish (Lindsey 1978) moves mostly its rear third: its
     front two thirds sweep less than half the tail's width."""
     creature = ag.creatures.get(name)
-    traj = run_swim(prepare_swim(name, seconds=float(CYCLES))).trajectory
+    run = long_swim(name)  # at cruise: the last two of twenty cycles
+    traj, strouhal = run.trajectory, run.metrics["cruise_strouhal"]
     lags = np.angle(np.exp(1j * np.diff(joint_phases(creature, traj))))
     envelope, along = lateral_envelope(creature, traj)
     share, tail = np.round(envelope / envelope[-1], 2), envelope[-1] / creature.model.body_length
     print(f"{name}: phase lag per joint {np.round(lags, 2).tolist()} rad; lateral envelope "
-          f"{share.tolist()} of the tail's {tail:.3f} L")  # fmt: skip
+          f"{share.tolist()} of the tail's {tail:.3f} L; cruising Strouhal number "
+          f"{strouhal:.2f} (animals: 0.2-0.4)")  # fmt: skip
     assert np.all(lags < 0)
     assert envelope[-1] == envelope.max()
     if name in ANGUILLIFORM:
@@ -108,10 +155,12 @@ def test_fish_and_eels_bend_in_a_wave_travelling_head_to_tail(name):
 @pytest.mark.parametrize("name, group", [("frog", 0), ("turtle3d", 0)])
 def test_the_propulsive_limbs_do_most_of_the_work(name, group):
     """The frog kicks with its hind legs (Richards 2010), the sea turtle flies with its front
-    flippers (Wyneken 1997): their first gait group does most of the actuator work."""
+    flippers (Wyneken 1997): their first gait group does most of the actuator work at
+    cruise."""
     creature = ag.creatures.get(name)
-    traj = run_swim(prepare_swim(name, seconds=2.0)).trajectory
-    work = traj.energy[-1]
+    run = long_swim(name)
+    traj = run.trajectory
+    work = traj.energy[-1] - traj.energy[traj.time >= run.metrics["cruise_start"]][0]
     limbs = [creature.model.dof_names.index(d) for d in creature.gait.groups[group]]
     share = work[limbs].sum() / work.sum()
     print(f"{name}: group {group} does {100 * share:.1f}% of the work")
