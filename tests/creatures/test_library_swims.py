@@ -27,8 +27,8 @@ fish 5); holding a course is the path follower's work (``aquagait follow NAME li
 UPRIGHT_DEGREES = 30.0
 """The largest pitch and roll of any cycle (``aquagait.metrics.attitude_metrics``) allowed
 over the twenty. Open loop, nothing rights a swimmer in this fluid (no gravity, no fins that
-correct), and a wake that loses its symmetry turns it slowly: eel3d rolls up to 23 degrees
-and pitches 15, the alien rolls 14, the fish pitches 8 (issue 32's figures)."""
+correct), and a wake that loses its symmetry turns it slowly: eel3d rolls up to 26 degrees
+and pitches 8.5, the alien rolls 20, the fish pitches 8.4 (README, "Long swims")."""
 
 ANGUILLIFORM = {"eel2d", "eel3d"}
 """Swimmers that undulate the whole body; the fish is carangiform."""
