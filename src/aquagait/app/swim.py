@@ -202,17 +202,12 @@ def measure(model, trajectory: Trajectory, period: float) -> tuple[dict, tuple[s
     if metrics["settled"]:
         return metrics, ()
     d = metrics["cycle_distances"]
-    change = (
-        ""
-        if len(d) < 3
-        else (
-            f": the last cycle swam {d[-1]:.3g} m, {abs(d[-1] - d[-3]) / d[-1]:.1%} more or less "
-            "than two before"
-        )
-    )
+    why = f"not yet at cruising speed after {len(d)} cycle(s)"
+    if len(d) >= 3:
+        change = abs(d[-1] - d[-3]) / d[-1] if d[-1] > 0 else float("inf")
+        why += f": the last cycle swam {d[-1]:.3g} m, {change:.1%} off the one two before"
     return metrics, (
-        f"not yet at cruising speed after {len(d)} cycle(s){change} (settled: within "
-        f"{SETTLED:.0%}); no cruise figures: swim longer (--seconds)",
+        f"{why} (settled: within {SETTLED:.0%}); no cruise figures: swim longer (--seconds)",
     )
 
 
