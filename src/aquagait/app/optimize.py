@@ -33,7 +33,7 @@ from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
-from aquagait.sim.follow import cells_for, widest_box
+from aquagait.sim.follow import CLEARANCE, cells_for, widest_box
 
 DEFAULT_CYCLES = 2.0
 """Gait cycles simulated per sample (paper §4)."""
@@ -102,7 +102,7 @@ def _fluid(fluid: str, clearance: float | None) -> FluidModel:
     """The fluid model an objective swims in: by name; the Euler fluid with its clearance,
     on a grid that does not grow (a sample that leaves it is penalized)."""
     if fluid == "euler":
-        return EulerFluid(grow=False, **({} if clearance is None else {"clearance": clearance}))
+        return EulerFluid(grow=False, clearance=CLEARANCE if clearance is None else clearance)
     return fluid_model(fluid)
 
 
