@@ -22,7 +22,7 @@ LAYERS = [
     {"creatures"},
     {"io"},
     {"viz"},
-    {"app"},
+    {"app", "envs"},  # envs: the Gymnasium environment, a user's loop beside the jobs
     {"bench"},
     {"cli"},
 ]
@@ -34,9 +34,10 @@ ADAPTERS = {
     "cma": {"optimize/"},
     "distributed": {"optimize/"},
     "dask": {"optimize/"},
+    "gymnasium": {"envs/"},
 }
 PHYSICS = {"grid", "fluid", "body", "coupling", "sim"}
-ONLY_FROM = {"viz": {"app", "bench"}}  # pictures: the jobs users run, and their benchmarks
+ONLY_FROM = {"viz": {"app", "envs", "bench"}}  # pictures: the jobs, the env's render, benchmarks
 
 
 def _modules():

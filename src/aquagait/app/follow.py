@@ -37,17 +37,7 @@ from aquagait.io.gait import GaitFileError, read_gait
 from aquagait.io.run import write_run
 from aquagait.metrics import travel_metrics
 from aquagait.objectives import MANEUVERS
-from aquagait.path import (
-    BLEND,
-    SHAPES,
-    Decision,
-    Follower,
-    Path,
-    PathError,
-    read_path,
-    root_pose,
-    shape,
-)
+from aquagait.path import BLEND, Decision, Follower, Path, PathError, parse_path, root_pose
 from aquagait.sim import (
     FRAMES_PER_SECOND,
     Scene,
@@ -176,7 +166,7 @@ def prepare_follow(
     position, _ = root_pose(scene, init_state(scene).qpos)
     length = creature.model.body_length
     try:
-        path, source = _path(path, creature.dim, position)
+        path, source = parse_path(path, creature.dim, position)
         path.check_start(position, length)
     except PathError as err:
         raise FollowSetupError(str(err)) from None
@@ -314,44 +304,6 @@ def follow_summary(run: FollowRun, out=None) -> str:
 
 
 # --- what to follow, and with what -------------------------------------------
-
-
-def _path(path, dim: int, start) -> tuple[Path, str]:
-    """The path and a description of where it came from; shapes start at ``start``."""
-    if isinstance(path, Path):
-        if path.dim != dim:
-            raise PathError(f"a {path.dim}D path for a {dim}D creature")
-        return path, "a given path"
-    text = str(path)
-    name, _, arguments = text.partition(":")
-    if name in SHAPES:
-        parameters = {}
-        for item in filter(None, arguments.split(",")):
-            key, sep, value = item.partition("=")
-            try:
-                parameters[key.strip().replace("-", "_")] = _value(value)
-            except ValueError:
-                raise PathError(
-                    f"path shape {text!r}: give parameters as key=value, e.g. "
-                    "circle:radius=0.6 or s-curve:length=4,amplitude=0.5"
-                ) from None
-            if not sep:
-                raise PathError(f"path shape {text!r}: {item!r} is not key=value")
-        made = shape(name, dim=dim, **parameters)
-        return Path(made.points + np.asarray(start, dtype=float)), text
-    if not FilePath(text).exists() and "." not in FilePath(text).name:
-        raise PathError(
-            f"{text!r} is neither a path file nor a shape; shapes: {', '.join(SHAPES)} "
-            "(with parameters as NAME:key=value,...), or a CSV or JSON file of points"
-        )
-    return read_path(text, dim), text
-
-
-def _value(text: str):
-    text = text.strip()
-    if text.lower() in ("true", "false"):
-        return text.lower() == "true"
-    return float(text)
 
 
 def _library(creature: Creature, learned) -> dict:

@@ -5,6 +5,15 @@ imports this package (see ``aquagait.sim`` for the seam).
 """
 
 from aquagait.control.gait import KINDS, GaitSpec, SineGait, SwitchedGait
-from aquagait.control.pd import PD, StablePD, gains
+from aquagait.control.pd import PD, StablePD, gains, joint_angles
 
-__all__ = ["KINDS", "PD", "GaitSpec", "SineGait", "StablePD", "SwitchedGait", "gains"]
+__all__ = [
+    "KINDS",
+    "PD",
+    "GaitSpec",
+    "SineGait",
+    "StablePD",
+    "SwitchedGait",
+    "gains",
+    "joint_angles",
+]

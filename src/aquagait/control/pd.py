@@ -117,6 +117,23 @@ class StablePD(PD):
         return self.kd
 
 
+def joint_angles(model: Model, q) -> np.ndarray:
+    """The actuated DOFs' positions, (na,) in ``model.actuated_dofs`` order.
+
+    A hinge's angle [rad] (a slide's position [m]); for a ball joint the three
+    components of its rotation vector [rad], the coordinates its gait drives
+    (module docstring).
+    """
+    q = np.asarray(q, dtype=float)
+    positions = np.zeros(model.nv)
+    for joint in model.joints:
+        if joint.kind in ("hinge", "slide"):
+            positions[joint.dof] = q[joint.qpos]
+        elif joint.kind == "ball":
+            positions[joint.dof : joint.dof + 3] = quat_log(q[joint.qpos : joint.qpos + 4])
+    return positions[model.actuated_dofs]
+
+
 def gains(model: Model, natural_frequency: float, damping_ratio: float = 1.0):
     """Per-DOF PD gains ``(kp, kd)``, each (nv,), zero on the root DOFs.
 

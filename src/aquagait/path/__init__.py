@@ -12,7 +12,17 @@ blending the switches (``aquagait.app.follow`` runs it for a creature).
 """
 
 from aquagait.path.follower import BLEND, Decision, Follower, root_pose
-from aquagait.path.paths import SHAPES, Path, PathError, circle, line, read_path, s_curve, shape
+from aquagait.path.paths import (
+    SHAPES,
+    Path,
+    PathError,
+    circle,
+    line,
+    parse_path,
+    read_path,
+    s_curve,
+    shape,
+)
 from aquagait.path.rule import MANEUVERS, choose_maneuver, root_frame
 
 __all__ = [
@@ -26,6 +36,7 @@ __all__ = [
     "choose_maneuver",
     "circle",
     "line",
+    "parse_path",
     "read_path",
     "root_frame",
     "root_pose",

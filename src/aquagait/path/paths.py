@@ -67,36 +67,47 @@ class Path:
         """The polyline's length [m]."""
         return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
 
-    def nearest(self, position) -> tuple[np.ndarray, np.ndarray]:
+    def nearest(self, position, around: float | None = None, reach: float = np.inf):
         """The path's point nearest ``position`` (dim,) [m] and the unit tangent there.
 
         The tangent points along the path's direction (from its first point to
         its last); at a vertex, the segment the nearest point lies on (the
-        later one where two are equally near).
+        later one where two are equally near). With ``around`` [m], only the
+        stretch of the path within ``reach`` [m] of that arc length is searched:
+        a follower that knows where it is on a closed or crossing path is not
+        sent to another lap (``progress``).
         """
+        k, t = self._foot(position, around, reach)
+        step = self.points[k + 1] - self.points[k]
+        return self.points[k] + t * step, step / np.linalg.norm(step)
+
+    def _foot(self, position, around=None, reach=np.inf) -> tuple[int, float]:
+        """The segment ``k`` holding the point nearest ``position`` (the later one where two
+        are equally near; within ``reach`` of arc length ``around``, if given) and where
+        on it, ``t`` in [0, 1]."""
         position = np.asarray(position, dtype=float)
         if position.shape != (self.dim,):
             raise PathError(f"a {self.dim}D path is followed from {self.dim}D positions; "
                             f"got {position.shape}")  # fmt: skip
-        k, t = self._foot(position)
-        step = self.points[k + 1] - self.points[k]
-        return self.points[k] + t * step, step / np.linalg.norm(step)
-
-    def _foot(self, position) -> tuple[int, float]:
-        """The segment ``k`` holding the point nearest ``position`` (the later one where two
-        are equally near) and where on it, ``t`` in [0, 1]."""
-        position = np.asarray(position, dtype=float)
         start, step = self.points[:-1], np.diff(self.points, axis=0)
         t = np.clip(((position - start) * step).sum(1) / (step * step).sum(1), 0.0, 1.0)
         distance = np.linalg.norm(start + t[:, None] * step - position, axis=1)
+        if around is not None:
+            ends = np.cumsum(self._lengths)
+            near = (ends >= around - reach) & (ends - self._lengths <= around + reach)
+            distance = np.where(near, distance, np.inf) if near.any() else distance
         k = len(distance) - 1 - int(np.argmin(distance[::-1]))
         return k, float(t[k])
 
-    def progress(self, position) -> float:
+    @property
+    def _lengths(self) -> np.ndarray:
+        return np.linalg.norm(np.diff(self.points, axis=0), axis=1)
+
+    def progress(self, position, around: float | None = None, reach: float = np.inf) -> float:
         """How far along the path [m] its point nearest ``position`` (dim,) [m] lies (the
-        same point as ``nearest``)."""
-        k, t = self._foot(position)
-        lengths = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
+        same point as ``nearest``, with the same ``around`` and ``reach``)."""
+        k, t = self._foot(position, around, reach)
+        lengths = self._lengths
         return float(lengths[:k].sum() + t * lengths[k])
 
     def distance(self, position) -> float:
@@ -195,6 +206,58 @@ def read_path(file, dim: int) -> Path:
     if path.dim != dim:
         raise PathError(f"{file} holds {path.dim}D points but the creature swims in {dim}D")
     return path
+
+
+def parse_path(path, dim: int, start=None) -> tuple[Path, str]:
+    """A path as the command line and the jobs take it, and where it came from.
+
+    Args:
+        path: a ``Path``; a named shape with parameters, ``NAME[:key=value,...]``
+            (``circle:radius=0.6``, ``s-curve:length=4,amplitude=0.5,vertical=true``),
+            moved to start at ``start``; or a CSV or JSON file of points [m] (``read_path``).
+        dim: the creature's dimension, 2 or 3.
+        start: (dim,) where a shape starts [m]; default the origin.
+
+    Returns:
+        ``(path, source)``: the path and a description (the shape as given, the file's name).
+    Raises:
+        PathError: the wrong dimension, a malformed shape, no such file (what would be right).
+    """
+    if isinstance(path, Path):
+        if path.dim != dim:
+            raise PathError(f"a {path.dim}D path for a {dim}D creature")
+        return path, "a given path"
+    text = str(path)
+    name, _, arguments = text.partition(":")
+    if name in SHAPES:
+        parameters = {}
+        for item in filter(None, arguments.split(",")):
+            key, sep, value = item.partition("=")
+            try:
+                parameters[key.strip().replace("-", "_")] = _value(value)
+            except ValueError:
+                raise PathError(
+                    f"path shape {text!r}: give parameters as key=value, e.g. "
+                    "circle:radius=0.6 or s-curve:length=4,amplitude=0.5"
+                ) from None
+            if not sep:
+                raise PathError(f"path shape {text!r}: {item!r} is not key=value")
+        made = shape(name, dim=dim, **parameters)
+        offset = np.zeros(dim) if start is None else np.asarray(start, dtype=float)
+        return Path(made.points + offset), text
+    if not FilePath(text).exists() and "." not in FilePath(text).name:
+        raise PathError(
+            f"{text!r} is neither a path file nor a shape; shapes: {', '.join(SHAPES)} "
+            "(with parameters as NAME:key=value,...), or a CSV or JSON file of points"
+        )
+    return read_path(text, dim), text
+
+
+def _value(text: str):
+    text = text.strip()
+    if text.lower() in ("true", "false"):
+        return text.lower() == "true"
+    return float(text)
 
 
 def _numeric(row: str) -> bool:
