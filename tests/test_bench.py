@@ -25,3 +25,16 @@ def test_bench_optimize_runs_the_default_search_per_seed_beside_the_papers_budge
     assert f"{(minutes[0] + minutes[1]) / 2:.1f} min whole (target 5 min: met)" in summary
     assert "the paper's budget (1600 samples) 20.0 min at this run's rate" in summary
     assert "266.7x the samples" in summary
+
+
+def test_bench_env_times_the_environment_beside_a_rollout(monkeypatch):
+    """Both sides swim the same physics; the overhead column is their ratio less one."""
+    from aquagait.bench import env as bench_env
+
+    monkeypatch.setattr(bench_env, "CASES", (("eel2d", True),))
+    out = io.StringIO()
+    (row,) = bench_env.run(10, out)
+    assert row["env_steps_per_second"] > 0 and row["rollout_steps_per_second"] > 0
+    ratio = row["rollout_steps_per_second"] / row["env_steps_per_second"]
+    assert row["overhead"] == ratio - 1
+    assert out.getvalue().splitlines()[1].startswith("eel2d")

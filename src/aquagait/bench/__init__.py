@@ -7,7 +7,7 @@ import os
 import sys
 from typing import TextIO
 
-BENCHMARKS = ("fluid", "swim", "optimize", "render")
+BENCHMARKS = ("fluid", "swim", "optimize", "render", "env")
 
 
 def run_benchmark(
@@ -57,7 +57,7 @@ def run_benchmark(
         raise ValueError(f"--creature and --seeds are for 'optimize', not {what!r}")
     if seeds is not None and seeds < 0:
         raise ValueError(f"seeds must be at least 0, got {seeds}")
-    from aquagait.bench import fluid, optimize, render, swim
+    from aquagait.bench import env, fluid, optimize, render, swim
 
     if what != "optimize":  # the optimize benchmark measures two worker processes
         _pin_to_one_core(out)
@@ -66,7 +66,7 @@ def run_benchmark(
                 for row in getattr(swim, name)(repeats, out)]  # fmt: skip
     if what == "optimize":
         return optimize.run(repeats, out, creature or "eel2d", 3 if seeds is None else seeds)
-    modules = {"fluid": fluid, "swim": swim, "optimize": optimize, "render": render}
+    modules = {"fluid": fluid, "swim": swim, "optimize": optimize, "render": render, "env": env}
     return modules[what].run(repeats=repeats, out=out)
 
 

@@ -60,7 +60,7 @@ depth); ``g = 9.81 m/s^2``. ``P / (m g)`` is the speed at which that power
 would lift the body; ``power_weight`` (default 1) weighs it against the
 speed, so that for ``forward`` the reward is the speed times ``1 - power_weight
 * COT``, ``COT = P / (m g v)`` the dimensionless cost of transport. The shipped
-eel2d gait pays about a tenth of its speed.
+eel2d gait pays about 7 % of its speed.
 
 Determinism: the simulation has no randomness; ``reset(seed=...)`` seeds the
 generator the ``target`` task draws its point from. The same seed and actions
