@@ -234,3 +234,19 @@ def test_vector_environment_on_processes():
         assert np.isfinite(reward).all()
     finally:
         envs.close(terminate=True)
+
+
+def test_made_by_module_prefix_in_a_fresh_interpreter():
+    """Gymnasium imports the module named before the colon, which registers the id."""
+    import subprocess
+    import sys
+
+    code = (
+        "import gymnasium as gym; "
+        "env = gym.make('aquagait.envs:aquagait/Swim-v0', creature='eel2d', seconds=0.1); "
+        "print(env.reset(seed=0)[0].shape)"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            timeout=120)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "(15,)"
