@@ -18,9 +18,10 @@ first step of each compiles nothing new: Numba's cache is on disk)::
 
 On a Dask cluster, run whole episodes as tasks: a function that builds the
 environment on the worker, plays an episode with the policy's parameters and
-returns its return, submitted with ``client.map`` (``examples/train_eel2d_rl.py``
-shows the pattern with processes). Each worker needs aquagait with the ``gym``
-extra, and a user's MJCF at the same path.
+returns its return, submitted with ``client.map``. Each worker needs aquagait
+with the ``gym`` extra, and a user's MJCF at the same path.
+``examples/07_learn_to_swim.py`` trains a controller for eel2d with two
+environments on two processes.
 
 Beside ``aquagait.app`` in the layers (DESIGN.md §3): a user's loop drives
 ``step``; this package imports the simulation, the creatures and the
