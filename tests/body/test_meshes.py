@@ -56,3 +56,25 @@ def test_link_meshes_are_in_the_link_frame(fish):
         ours = points[links == k]
         assert np.allclose(world.min(0), ours.min(0), atol=1e-9)
         assert np.allclose(world.max(0), ours.max(0), atol=1e-9)
+
+
+def test_a_link_with_visual_geoms_is_drawn_by_them_and_the_others_by_their_shape():
+    """A massless red ball beside a massive box: the body is drawn as the ball alone
+    (``visual=True``), or as the box the water sees (``visual=False``); the tail, which
+    has no look, the same either way."""
+    xml = """<mujoco><worldbody><body name="body" euler="0 0 30"><freejoint/>
+      <geom type="box" size=".05 .03 .02"/>
+      <geom name="ball" type="sphere" size=".04" pos=".08 0 0" density="0" rgba="1 0 0 1"/>
+      <body name="tail" pos="-.05 0 0"><joint type="hinge" axis="0 0 1"/>
+        <geom type="box" size=".03 .004 .015" pos="-.03 0 0"/></body>
+    </body></worldbody></mujoco>"""
+    model = ag.load_model(xml)
+    drawn, shape = link_meshes(model), link_meshes(model, visual=False)
+    # the ball, in the body's frame: every vertex on its sphere, all of it red
+    radius = np.linalg.norm(drawn[0].vertices - [0.08, 0, 0], axis=1)
+    np.testing.assert_allclose(radius, 0.04, rtol=1e-12)
+    np.testing.assert_allclose(drawn[0].colours, [[1, 0, 0, 1]] * len(radius))
+    # the fluid's picture: the box's corners, in grey
+    np.testing.assert_allclose(np.abs(shape[0].vertices), [[0.05, 0.03, 0.02]] * 24)
+    for a, b in zip(drawn[1:], shape[1:], strict=True):
+        np.testing.assert_array_equal(a.vertices, b.vertices)

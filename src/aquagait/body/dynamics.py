@@ -192,6 +192,33 @@ def _geom_rgba(mj) -> np.ndarray:
     return rgba
 
 
+def massless_geoms(xml: str) -> np.ndarray:
+    """Which geoms MuJoCo gives no mass, as the MJCF ``xml`` writes them.
+
+    A geom's mass is its ``mass`` where given, else ``density`` times its volume
+    (default classes resolved, as MuJoCo's compiler resolves them); a geom whose
+    group lies outside the compiler's ``inertiagrouprange`` adds none. A
+    body's ``<inertial>`` overrides its geoms' masses, but a geom written with
+    mass 0 or density 0 is still massless here: that is how a file says a
+    geom is only to be drawn (``aquagait.body.reshape.visual_only``).
+
+    Args:
+        xml: MJCF text that compiles (``compile_mjcf``).
+    Returns:
+        (ng,) bool, in the compiled model's geom order.
+    """
+    spec = mujoco.MjSpec.from_string(xml)
+    spec.compile()  # numbers the geoms as the compiled model does
+    lo, hi = spec.compiler.inertiagrouprange
+    out = np.zeros(len(spec.geoms), dtype=bool)
+    for geom in spec.geoms:
+        given = not np.isnan(geom.mass)
+        out[geom.id] = (geom.mass == 0 if given else geom.density == 0) or not (
+            lo <= geom.group <= hi
+        )
+    return out
+
+
 def mesh_faces(mj) -> tuple:
     """The triangles of every mesh geom, for building its inside test (``voxelize``).
 

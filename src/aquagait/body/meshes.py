@@ -3,6 +3,13 @@
 Each link's geoms become one mesh in the link's own frame, so a frame's
 picture places it by the link's world pose, ``x = p + R x_link``. Primitive
 geoms are tessellated here; mesh geoms keep MuJoCo's triangles.
+
+What is drawn: a link that has visual-only geoms (massless and visible, beside
+a visible geom with mass; ``aquagait.body.model``, ``Model.visuals``) is drawn
+by those, in place of the geoms the water sees, so a manta's 45 mm fluid
+plates can look like a ray's thin wings; every other link by the geoms the
+water sees. ``link_meshes(model, visual=False)`` draws exactly what the water
+sees, link by link (for a picture of the fluid's body, or a test).
 """
 
 from __future__ import annotations
@@ -38,7 +45,7 @@ class LinkMesh:
     triangles: np.ndarray
 
 
-def link_meshes(model) -> list[LinkMesh]:
+def link_meshes(model, visual: bool = True) -> list[LinkMesh]:
     """Triangle meshes of every link of ``model``, each in its link's frame.
 
     Primitive geoms are tessellated here (MuJoCo sizes: sphere radius,
@@ -49,6 +56,8 @@ def link_meshes(model) -> list[LinkMesh]:
 
     Args:
         model: an ``aquagait.body.model.Model``.
+        visual: draw a link that has visual-only geoms (``Model.visuals``) by
+            those alone (module doc); False: every link by the geoms the water sees.
     Returns:
         one ``LinkMesh`` per link, in link order (empty for a link without geoms).
     """
@@ -57,17 +66,35 @@ def link_meshes(model) -> list[LinkMesh]:
     for g, kind in enumerate(facts.geom_kind):
         if facts.geom_rgba[g][3] == 0:
             continue
-        if kind == "mesh":
-            vertices, normals, triangles = _smooth_mesh(facts.geom_vertices[g], faces[g])
-        else:
-            local, local_normals, triangles = _primitive(kind, facts.geom_size[g])
-            vertices = facts.geom_pos[g] + local @ facts.geom_rot[g].T
-            normals = local_normals @ facts.geom_rot[g].T
         link = int(facts.geom_link[g])
         p0, r0 = facts.link_pos[link], facts.link_rot[link]  # x_link = R0^T (x_world - p0)
-        colours = np.tile(facts.geom_rgba[g], (len(vertices), 1))
-        parts[link].append(((vertices - p0) @ r0, normals @ r0, colours, triangles))
+        centre, rot, world = facts.geom_pos[g], facts.geom_rot[g], facts.geom_vertices[g]
+        own = None if world is None else (world - centre) @ rot  # a mesh's, in its frame
+        parts[link].append(_placed(_geom_mesh(kind, facts.geom_size[g], own, faces[g]),
+                                   r0.T @ rot, (centre - p0) @ r0, facts.geom_rgba[g]))  # fmt: skip
+    for link, drawn in enumerate(model.visuals if visual else ()):
+        if drawn:
+            parts[link] = [
+                _placed(_geom_mesh(v.kind, v.size, v.vertices, v.faces), v.rot, v.pos, v.rgba)
+                for v in drawn
+            ]
     return [_joined(part) for part in parts]
+
+
+def _geom_mesh(kind, size, vertices, faces) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Vertices (n, 3) [m], unit normals (n, 3) and triangles (m, 3) of a geom in its own
+    frame: a mesh's ``vertices`` (in that frame) and ``faces``, or a primitive of ``size``."""
+    if kind == "mesh":
+        return _smooth_mesh(vertices, faces)
+    return _primitive(kind, size)
+
+
+def _placed(mesh, rot, pos, rgba) -> tuple:
+    """A geom's (vertices, normals, colours, triangles) in its link's frame, where its
+    own frame has axes ``rot`` (3, 3) and origin ``pos`` (3,) [m]."""
+    vertices, normals, triangles = mesh
+    colours = np.tile(rgba, (len(vertices), 1))
+    return pos + vertices @ rot.T, normals @ rot.T, colours, triangles
 
 
 def _joined(parts) -> LinkMesh:
@@ -87,18 +114,28 @@ def _joined(parts) -> LinkMesh:
 
 
 def _smooth_mesh(vertices, faces) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A mesh's corners with normals: the area-weighted vertex normal, or the
-    face's own where the two differ by more than ``CREASE_DEGREES`` (a box's
-    edges, a fin plate's rim)."""
+    """A mesh's corners with normals: at each corner, the area-weighted normal of the
+    faces around its vertex that turn less than ``CREASE_DEGREES`` from the corner's
+    own face, so a surface is smooth up to its creases (a box's edges, a fin plate's
+    rim) and each side of a crease keeps its own shading."""
     a, b, c = (vertices[faces[:, i]] for i in range(3))
     face_normals = np.cross(b - a, c - a)  # length: twice the area, the weight
-    vertex_normals = np.zeros_like(vertices, dtype=float)
-    np.add.at(vertex_normals, faces.ravel(), np.repeat(face_normals, 3, axis=0))
-    flat = np.repeat(_unit(face_normals), 3, axis=0)
-    smooth = _unit(vertex_normals)[faces.ravel()]
-    sharp = np.einsum("ij,ij->i", flat, smooth) < math.cos(math.radians(CREASE_DEGREES))
-    normals = np.where(sharp[:, None], flat, smooth)
-    return vertices[faces.ravel()], normals, np.arange(3 * len(faces)).reshape(-1, 3)
+    unit = _unit(face_normals)
+    corner_vertex, corner_face = faces.ravel(), np.repeat(np.arange(len(faces)), 3)
+    # every pair of corners at one vertex (each with itself too): sort the corners by
+    # vertex, then pair each with every corner of its vertex's run
+    order = np.argsort(corner_vertex, kind="stable")
+    per_vertex = np.bincount(corner_vertex, minlength=len(vertices))
+    run_start = (np.cumsum(per_vertex) - per_vertex)[corner_vertex[order]]
+    run_length = per_vertex[corner_vertex[order]]
+    mine = np.repeat(order, run_length)
+    step = np.arange(run_length.sum()) - np.repeat(np.cumsum(run_length) - run_length, run_length)
+    theirs = order[np.repeat(run_start, run_length) + step]
+    near = np.einsum("ij,ij->i", unit[corner_face[mine]], unit[corner_face[theirs]]) >= (
+        math.cos(math.radians(CREASE_DEGREES)))  # fmt: skip
+    normals = np.zeros((len(corner_vertex), 3))
+    np.add.at(normals, mine[near], face_normals[corner_face[theirs[near]]])
+    return vertices[corner_vertex], _unit(normals), np.arange(3 * len(faces)).reshape(-1, 3)
 
 
 def _unit(vectors: np.ndarray) -> np.ndarray:

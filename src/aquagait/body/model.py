@@ -19,8 +19,18 @@ takes the targets of its ``<position>`` servo, else +-``DEFAULT_RANGE``, with
 a note. Masses and inertias are MuJoCo's, however the file gives them (geom
 densities, MuJoCo's default being water's; geom ``mass``; ``<inertial>``);
 the water sees each link's geoms, except hidden ones that only carry mass
-(``aquagait.body.reshape``). Gravity is off. Allowed geoms: capsule, box,
-sphere, ellipsoid, cylinder, mesh.
+and visual-only ones that are only drawn (``aquagait.body.reshape``).
+Gravity is off. Allowed geoms: capsule, box, sphere, ellipsoid, cylinder, mesh.
+
+A geom is *visual-only* when MuJoCo gives it no mass (``mass="0"``, or
+``density="0"`` and no mass), it is visible (group below 3, alpha above 0),
+and its link has another visible geom that has mass. It is taken out of the
+physics model ``Model.mj`` before anything is checked or measured, so the
+fluid's shape, voxels, the simple fluid's patches, self-collision, the tail
+tip, the bounds and body length, thickening and ``aquagait check``'s tables
+all ignore it; it is kept in ``Model.visuals`` for the pictures
+(``aquagait.body.meshes``). A link whose visible geoms are all massless (the
+control suites' fish, its mass on a hidden geom) keeps them as its shape.
 
 What only describes scenery or another simulator's set-up (floors, lights,
 cameras, materials, actuators, sensors, contacts, tendons, keyframes,
@@ -37,10 +47,24 @@ from pathlib import Path
 
 import numpy as np
 
-from aquagait.body.dynamics import CompiledFacts, compile_mjcf, describe, mesh_faces
+from aquagait.body.dynamics import (
+    CompiledFacts,
+    compile_mjcf,
+    describe,
+    massless_geoms,
+    mesh_faces,
+)
 from aquagait.body.flatten import area, outlines, prism_depth, prism_xml
 from aquagait.body.mjcf import ModelError, prepare_mjcf, read_mjcf
-from aquagait.body.reshape import inertia_only, pin_inertia, thin_geoms, turn_root
+from aquagait.body.reshape import (
+    VisualGeom,
+    inertia_only,
+    pin_inertia,
+    thin_geoms,
+    turn_root,
+    visual_only,
+    visual_record,
+)
 from aquagait.body.scenery import listing
 from aquagait.body.shape import geom_volume
 
@@ -126,6 +150,9 @@ class Model:
         planar: its root moves in the x-y plane (slide x, slide y, hinge z):
             every 2D model, and a planar model swum in the 3D fluid with its
             root held to its plane (``load_model``'s ``planar_fluid='3d'``).
+        visuals: per link, its visual-only geoms (module doc), in the link's
+            frame, for pictures only: not in ``mj``; () for a link without
+            (every link of most models).
     """
 
     source: str
@@ -148,6 +175,7 @@ class Model:
     notes: tuple[str, ...] = ()
     forward: tuple[float, float, float] = (1.0, 0.0, 0.0)
     planar: bool = False
+    visuals: tuple[tuple[VisualGeom, ...], ...] = ()
 
     @property
     def nq(self) -> int:
@@ -211,12 +239,13 @@ def load_model(
     except ValueError as err:
         raise ModelError(source, [*problems, prepared.compile_error(err)]) from None
     facts = describe(mj)
+    xml, mj, facts, visuals = _drawn_only(prepared.xml, mj, facts, notes)
     if planar_fluid not in PLANAR_FLUIDS:
         raise ValueError(f"planar_fluid must be one of {PLANAR_FLUIDS}, got {planar_fluid!r}")
     root, dim, depth, ranges = _check_compiled(facts, prepared, problems, notes, planar_fluid)
     if problems:
         raise ModelError(source, problems)
-    xml, mj, facts, depth = _fluid_shape(prepared.xml, mj, facts, root, dim, depth, thicken_to,
+    xml, mj, facts, depth = _fluid_shape(xml, mj, facts, root, dim, depth, thicken_to,
                                          notes, source)  # fmt: skip
     planar = _is_planar(facts, root)
     heading, why = _forward(facts, 2 if planar else dim, forward, problems)
@@ -230,7 +259,24 @@ def load_model(
         mj = compile_mjcf(xml=turn_root(xml, facts, _turning(heading)))
         facts = describe(mj)
     forward = tuple(float(v) for v in heading)
-    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward, planar)
+    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward, planar,
+                  visuals)  # fmt: skip
+
+
+def _drawn_only(xml, mj, facts, notes):
+    """The model without its visual-only geoms (module doc), MuJoCo's masses and
+    inertias pinned (``aquagait.body.reshape``), and their records for the pictures.
+    Returns ``(xml, mj, facts, visuals)``; as they were, and no visuals, if it has none."""
+    if len(facts.geom_kind) <= len(facts.link_names):  # no link has two geoms
+        return xml, mj, facts, ()
+    drawn = visual_only(facts, massless_geoms(xml))
+    if not drawn:
+        return xml, mj, facts, ()
+    notes.append(_visual_note(facts, drawn))
+    visuals = visual_record(facts, mesh_faces(mj), drawn)
+    xml = pin_inertia(xml, facts, drawn)
+    mj = compile_mjcf(xml=xml)
+    return xml, mj, describe(mj), visuals
 
 
 def _fluid_shape(xml, mj, facts, root, dim, depth, thicken_to, notes, source):
@@ -516,6 +562,18 @@ def _inertia_only_note(facts: CompiledFacts, geoms) -> str:
     )
 
 
+def _visual_note(facts: CompiledFacts, geoms) -> str:
+    labels = _labels(facts.geom_names, geoms)
+    links = sorted({_link(facts, facts.geom_link[g]) for g in geoms})
+    what = f"geom {labels[0]}" if len(labels) == 1 else f"{len(labels)} geoms ({listing(labels)})"
+    where = listing(links) if len(links) <= 2 else f"{len(links)} links"
+    verb = "is" if len(labels) == 1 else "are"
+    return (
+        f"{what} of {where} {verb} only drawn (massless and visible, beside a visible geom "
+        "with mass): the water, the masses and the checks see the geoms with mass"
+    )
+
+
 def _thickened_note(facts: CompiledFacts, minimum: float, sizes: dict, meshes: list) -> str:
     """Which geoms were widened for the fluid, from what to what, and which meshes were not."""
     parts = []
@@ -620,7 +678,7 @@ def _flattened(xml: str, mj, facts: CompiledFacts, root: int, declared, source: 
 
 
 def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes, forward,
-           planar) -> Model:  # fmt: skip
+           planar, visuals) -> Model:  # fmt: skip
     joints = tuple(_joint_record(facts, j, ranges.get(j)) for j in range(len(facts.joint_names)))
     dof_names = [""] * facts.nv
     for joint in joints:
@@ -654,6 +712,7 @@ def _build(mj, facts: CompiledFacts, source, dim, depth, root, ranges, notes, fo
         notes=notes,
         forward=forward,
         planar=planar,
+        visuals=visuals or tuple(() for _ in facts.link_names),
     )
 
 

@@ -12,12 +12,25 @@ does not show) or invisible (``rgba`` alpha 0) on a link that has a visible
 geom, gives the link its mass but no shape. A link whose geoms are all hidden
 keeps them as its shape.
 
+The other way round, a file may draw a link finer than the water can see it:
+a *visual-only* geom (``visual_only``) is one MuJoCo gives no mass (``mass``
+0, or ``density`` 0 and no ``mass``; ``aquagait.body.dynamics.massless_geoms``),
+visible (group below 3 and alpha above 0), on a link that also has a visible
+geom with mass. It gives neither mass nor shape: it is removed from the
+physics model before any check or measure (fluid shape, voxels, the simple
+fluid's patches, self-collision, tail tip, bounds, thickening) and kept as a
+``VisualGeom`` record for pictures only (``Model.visuals``,
+``aquagait.body.meshes``). Where no visible geom of a link has mass (the
+control suites' fish: its mass on a hidden geom, its looks on massless
+visible ones), its visible geoms stay its shape, as before: only a massive
+visible geom makes its massless neighbours visual.
+
 To take a geom out of the water's view without changing the motion, the MJCF
 is rewritten (``pin_inertia``): every body gets an ``<inertial>`` holding the
 mass, centre of mass and principal inertia MuJoCo compiled for it, the
 compiler is told to take inertia from those (``inertiafromgeom="false"``), and
-the inertia-only geoms are removed; compiled again, the model moves exactly
-as before and its geoms are the shape.
+the inertia-only (and visual-only) geoms are removed; compiled again, the
+model moves exactly as before and its geoms are the shape.
 
 The same rewrite thickens thin parts for the fluid (``thin_geoms``): a grid
 sees a part well only when it is a cell or two thick (DESIGN.md §2.8), and
@@ -37,6 +50,7 @@ slide and hinge axes are rewritten so that they stay along world x, y and z.
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -68,6 +82,77 @@ def inertia_only(facts) -> list[int]:
         if hidden[geoms].any() and not hidden[geoms].all():
             dropped += geoms[hidden[geoms]].tolist()
     return sorted(dropped)
+
+
+def visual_only(facts, massless) -> list[int]:
+    """Indices of the geoms that are only drawn (module doc): massless, visible, on a
+    link that has a visible geom with mass.
+
+    Args:
+        facts: ``aquagait.body.dynamics.CompiledFacts`` of the compiled model.
+        massless: (ng,) bool, the geoms MuJoCo gives no mass (``massless_geoms``).
+    Returns:
+        geom indices, ascending; empty when every visible geom shapes its link.
+    """
+    visible = (facts.geom_group < HIDDEN_GROUP) & (facts.geom_rgba[:, 3] > 0)
+    drawn = visible & np.asarray(massless, dtype=bool)
+    massive = visible & ~drawn
+    links = set(facts.geom_link[massive].tolist())
+    return [g for g in np.flatnonzero(drawn).tolist() if facts.geom_link[g] in links]
+
+
+@dataclass(frozen=True, eq=False)
+class VisualGeom:
+    """A geom that is only drawn (``visual_only``), in its link's frame.
+
+    Attributes:
+        name: the geom's name ('' if it has none).
+        kind: 'box', 'sphere', 'ellipsoid', 'capsule', 'cylinder' or 'mesh'.
+        size: (3,) MuJoCo's size [m] (radii, half-lengths, half-sides).
+        pos: (3,) its centre in the link frame [m].
+        rot: (3, 3) its axes in the link frame (columns).
+        rgba: (4,) colour in [0, 1].
+        vertices: (n, 3) a mesh's vertices in the geom's frame [m]; None otherwise.
+        faces: (m, 3) a mesh's triangles (vertex indices, counter-clockwise seen
+            from outside); None otherwise.
+    """
+
+    name: str
+    kind: str
+    size: np.ndarray
+    pos: np.ndarray
+    rot: np.ndarray
+    rgba: np.ndarray
+    vertices: np.ndarray | None = None
+    faces: np.ndarray | None = None
+
+
+def visual_record(facts, faces, geoms) -> tuple[tuple[VisualGeom, ...], ...]:
+    """The visual-only ``geoms`` of each link as ``VisualGeom`` records, in link frames.
+
+    Args:
+        facts: the compiled model's ``CompiledFacts`` (at ``qpos0``).
+        faces: its ``mesh_faces``.
+        geoms: the geom indices to record (``visual_only``).
+    Returns:
+        per link (in link order), its visual geoms' records; () for a link without.
+    """
+    out = [[] for _ in facts.link_names]
+    for g in geoms:
+        link = int(facts.geom_link[g])
+        p0, r0 = facts.link_pos[link], facts.link_rot[link]  # x_link = R0^T (x_world - p0)
+        centre, rot, mesh = facts.geom_pos[g], facts.geom_rot[g], facts.geom_vertices[g]
+        out[link].append(VisualGeom(
+            name=facts.geom_names[g],
+            kind=facts.geom_kind[g],
+            size=facts.geom_size[g].copy(),
+            pos=(centre - p0) @ r0,
+            rot=r0.T @ rot,
+            rgba=facts.geom_rgba[g].copy(),
+            vertices=None if mesh is None else (mesh - centre) @ rot,
+            faces=None if mesh is None else faces[g].copy(),
+        ))  # fmt: skip
+    return tuple(tuple(link) for link in out)
 
 
 def thin_geoms(facts, minimum: float, planar: bool) -> tuple[dict[int, np.ndarray], list[int]]:
