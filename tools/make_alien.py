@@ -13,6 +13,14 @@ span, y: the wing's angle of attack). The right wings (y < 0) are the left
 ones reflected in the x-z plane, joint axes included (``n_right = M n_left``);
 a reflected rotation turns the other way, so the mirrored gait is
 ``qbar_right = -qbar_left`` (``mirror`` sign -1 in ``alien.aquagait.json``).
+
+The wings and the caudal fin are 8 mm plates, two of the grid's 4 mm cells,
+so that the fluid sees them; drawn so, they are blocks. So those links also
+carry a *visual* wing or fin (a massless geom of class ``visual``, drawn in
+place of the plate and ignored by the water; ``tools/creature_mjcf.py``): a
+thin blade (``foil``, 1.8 mm at the wing's root, 1.2 mm at the fin's
+middle), the wing rounded and swept back at its tip, the caudal fin forked
+(lunate) with pointed lobes.
 """
 
 from __future__ import annotations
@@ -20,7 +28,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from creature_mjcf import fmt, mjcf
+from creature_mjcf import foil, mesh_xml, mjcf
 
 OUT = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures" / "alien.xml"
 
@@ -45,6 +53,19 @@ WING = {"span": 0.022, "chord0": 0.026, "chord1": 0.016, "half_thickness": 0.004
 FLAP_LIMIT_DEG, PITCH_LIMIT_DEG = 12, 15
 
 COLOURS = {"trunk": "0.45 0.2 0.55 1", "tail": "0.5 0.25 0.6 1", "wing": "0.2 0.65 0.6 1"}
+
+# The visual wing and fin (no mass; drawn only) [m]. The wing along its span r:
+# chord 26 mm at the root, rounding off at VISUAL_WING_SPAN, its middle swept
+# back by up to WING_SWEEP (the tip a little behind the root's trailing edge).
+# The caudal fin over its height z: its front edge at the joint where the tail
+# meets it (|z| < FIN_ROOT), then swept back along the lobes; its trailing edge
+# forked, FIN_NOTCH behind the joint in the middle and FIN_TIP at the lobes'
+# tips, |z| = FIN_HEIGHT.
+VISUAL_WING_SPAN = 0.025
+WING_SWEEP = 0.016
+WING_HALF_THICKNESS = (0.0009, 0.0004)  # root, tip
+FIN_ROOT, FIN_HEIGHT, FIN_NOTCH, FIN_TIP = 0.004, 0.014, 0.014, 0.03
+FIN_HALF_THICKNESS = (0.0006, 0.0003)  # middle, tips
 
 
 def sections(xs, bs, hs, ring: int = 16) -> np.ndarray:
@@ -92,6 +113,35 @@ def wing_mesh(side: int) -> np.ndarray:
     ])  # fmt: skip
 
 
+def wing_visual(side: int) -> tuple[np.ndarray, np.ndarray]:
+    """The thin visual wing in the wing's frame (closed mesh); side +1 left, -1 right."""
+    r = np.linspace(0, VISUAL_WING_SPAN, 12)
+    u = r / VISUAL_WING_SPAN
+    chord = np.maximum(WING["chord0"] * (1 - 0.2 * u) * (1 - u**3) ** 0.5, 0.0015)
+    middle = -WING_SWEEP * u**1.5
+    h0, h1 = WING_HALF_THICKNESS
+    vertices, faces = foil(r, middle + chord / 2, middle - chord / 2, h0 + (h1 - h0) * u)
+    if side < 0:
+        vertices, faces = vertices * [1, -1, 1], faces[:, ::-1]
+    return vertices, faces
+
+
+def fin_visual() -> tuple[np.ndarray, np.ndarray]:
+    """The thin, forked visual caudal fin in the fin link's frame (closed mesh): a blade
+    spanning z, its chord along -x, thin in y."""
+    z = FIN_HEIGHT * np.sin(np.linspace(-np.pi / 2, np.pi / 2, 21)) * 0.97  # tips: 1 mm chords
+    a = np.abs(z)
+    lead = -FIN_TIP * (np.clip(a - FIN_ROOT, 0, None) / (FIN_HEIGHT - FIN_ROOT)) ** 1.2
+    trail = -FIN_NOTCH - (FIN_TIP - FIN_NOTCH) * (a / FIN_HEIGHT) ** 1.3
+    h0, h1 = FIN_HALF_THICKNESS
+    vertices, faces = foil(z, lead, trail, h0 + (h1 - h0) * a / FIN_HEIGHT)
+    return vertices[:, [0, 2, 1]], faces[:, ::-1]  # span along z, thickness along y
+
+
+def visual_geom(name: str, colour: str) -> str:
+    return f'<geom name="{name}" class="visual" type="mesh" mesh="{name}" rgba="{colour}"/>'
+
+
 def wing_xml(name: str, side: int, pad: str) -> list[str]:
     s = "l" if side > 0 else "r"
     x = WING_X[name]
@@ -103,6 +153,7 @@ def wing_xml(name: str, side: int, pad: str) -> list[str]:
         f'{pad}  <joint name="{name}_pitch_{s}" type="hinge" axis="0 {side} 0" '
         f'range="-{PITCH_LIMIT_DEG} {PITCH_LIMIT_DEG}"/>',
         f'{pad}  <geom name="{name}_{s}" type="mesh" mesh="{name}_{s}" rgba="{COLOURS["wing"]}"/>',
+        f"{pad}  " + visual_geom(f"{name}_{s}_look", COLOURS["wing"]),
         f"{pad}</body>",
     ]
 
@@ -118,6 +169,8 @@ def tail_xml(pad: str) -> list[str]:
             f'range="-{TAIL_LIMIT_DEG} {TAIL_LIMIT_DEG}"/>',
             f'{indent}  <geom name="{name}" type="mesh" mesh="{name}" rgba="{COLOURS["tail"]}"/>',
         ]
+        if k == 7:
+            lines.append(f"{indent}  " + visual_geom("fin_look", COLOURS["tail"]))
         pos = -TAIL_LINK
     lines += [pad + "  " * k + "</body>" for k in range(7, -1, -1)]
     return lines
@@ -128,7 +181,12 @@ def alien_xml() -> str:
     meshes["tail8"] = fin_mesh()
     for name in WING_X:
         meshes[f"{name}_l"], meshes[f"{name}_r"] = wing_mesh(1), wing_mesh(-1)
-    asset = "\n".join(f'    <mesh name="{n}" vertex="{fmt(v)}"/>' for n, v in meshes.items())
+    looks = {"fin_look": fin_visual()}
+    for name in WING_X:
+        looks[f"{name}_l_look"], looks[f"{name}_r_look"] = wing_visual(1), wing_visual(-1)
+    asset = "\n".join(
+        [mesh_xml(n, v) for n, v in meshes.items()] + [mesh_xml(n, *v) for n, v in looks.items()]
+    )
     body = [
         '    <body name="trunk" pos="0 0 0">',
         '      <freejoint name="root"/>',
@@ -140,9 +198,9 @@ def alien_xml() -> str:
     body += tail_xml("      ")
     body.append("    </body>")
     summary = "an imaginary swimmer, four wings and a long tail, 16 hinges, 3D."
-    return mjcf(
-        "alien", summary, "\n".join(body), Path(__file__).name, asset=asset, source="dimensions"
-    )
+    visual = "thin wings, rounded and swept at the tips, and a thin forked caudal fin."
+    return mjcf("alien", summary, "\n".join(body), Path(__file__).name, asset=asset,
+                source="dimensions", visual=visual)  # fmt: skip
 
 
 if __name__ == "__main__":

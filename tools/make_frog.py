@@ -13,6 +13,15 @@ the legs swing about it). The right limbs (y < 0) are the left ones
 reflected in the x-z plane, joint axes included (``n_right = M n_left``);
 reflecting a rotation reverses its sense, so the mirrored gait is
 ``qbar_right = -qbar_left`` (``mirror`` sign -1 in ``frog.aquagait.json``).
+
+The web plate is 7 mm thick and the tarsus and forelimbs 7.2 mm across, so
+that the grid's 4 mm cells see them; a real web is under 1 mm and those
+limbs 3-4 mm. So these links also carry a *visual body* (massless geoms of
+class ``visual``, drawn in place of the thick ones and ignored by the water;
+``tools/creature_mjcf.py``): each foot five toes fanning out from the
+tarso-metatarsal joint with a 0.6 mm web between them, scalloped between
+the toe tips (``VISUAL_TOES``); a 4-5 mm tarsus; slim arms with four
+fingers.
 """
 
 from __future__ import annotations
@@ -20,7 +29,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from creature_mjcf import fmt, mjcf
+from creature_mjcf import fmt, loft, mesh_xml, mjcf
 
 OUT = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures" / "frog.xml"
 
@@ -65,6 +74,26 @@ LIMITS = {
 }  # fmt: skip
 
 GREEN, DARK, WEB = "0.35 0.55 0.25 1", "0.28 0.45 0.2 1", "0.55 0.65 0.35 1"
+
+# The visual body (no mass; drawn only). Toes of the left foot, first to fifth:
+# their tips (along the foot, across the web) [m] from the tarso-metatarsal
+# joint; the fourth is the longest, as in a ranid. Each toe is a capsule of
+# TOE_RADIUS from the joint's fan; the web spans between the toes and reaches
+# WEB_REACH of the way to the tips between them.
+VISUAL_TOES = [(0.024, -0.016), (0.032, -0.012), (0.039, -0.004), (0.045, 0.007), (0.036, 0.018)]
+TOE_RADIUS = 0.0007
+TOE_ROOT = (-0.002, 0.0)  # where the toes' lines meet, on the foot's axis [m]
+WEB_REACH = 0.8
+SOLE = (0.007, 0.0019)  # the metatarsals' bundle at the foot's root: length, radius [m]
+WEB_HALF_THICKNESS = 0.0003
+# Slim limbs: half-thickness (across, up) at the proximal and distal ends [m].
+VISUAL_LIMBS = {
+    "tarsus": ((0.0026, 0.0024), (0.002, 0.002)),
+    "upperarm": ((0.0024, 0.0022), (0.0019, 0.0018)),
+    "forearm": ((0.0019, 0.0018), (0.0015, 0.0014)),
+}
+FINGERS = [(-25.0, 0.007), (-8.0, 0.009), (8.0, 0.008), (25.0, 0.006)]  # angle, length
+FINGER_RADIUS = 0.0006
 
 
 def direction(psi_deg: float, dip_deg: float = 0.0) -> np.ndarray:
@@ -118,6 +147,60 @@ def web_plate() -> np.ndarray:
     ])  # fmt: skip
 
 
+def foot_axes() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The left foot's long axis d, the web's width w and its normal n (world)."""
+    d = direction(FOOT["angle"])
+    u, v = section_frame(d)
+    tilt = np.radians(FOOT["tilt"])
+    w = np.cos(tilt) * u + np.sin(tilt) * v
+    return d, w, np.cross(d, w)
+
+
+def web_visual(pos) -> tuple[np.ndarray, np.ndarray]:
+    """The left foot's thin web (world, the joint at ``pos``): a fan between the first
+    and fifth toes, reaching their tips along the toes and ``WEB_REACH`` of the way
+    between them (a closed mesh)."""
+    d, w, n = foot_axes()
+    root = np.array(TOE_ROOT)
+    tips = np.array(VISUAL_TOES) - root
+    angle, reach = np.arctan2(tips[:, 1], tips[:, 0]), np.hypot(tips[:, 0], tips[:, 1])
+    phi = np.linspace(angle[0], angle[-1], 41)
+    k = np.clip(np.searchsorted(angle, phi, side="right") - 1, 0, len(angle) - 2)
+    t = (phi - angle[k]) / (angle[k + 1] - angle[k])  # 0 at toe k, 1 at toe k + 1
+    straight = reach[k] + (reach[k + 1] - reach[k]) * t
+    edge = straight * (1 - (1 - WEB_REACH) * np.sin(np.pi * t))  # scalloped between tips
+    rings = []
+    for a, r in zip(phi, edge, strict=True):
+        radial = np.linspace(0.003, r, 6)
+        along, across = root[0] + radial * np.cos(a), root[1] + radial * np.sin(a)
+        middle = pos + along[:, None] * d + across[:, None] * w
+        rings.append(np.concatenate([middle + WEB_HALF_THICKNESS * n,
+                                     (middle - WEB_HALF_THICKNESS * n)[::-1]]))  # fmt: skip
+    return loft(rings)
+
+
+def toe_lines(pos) -> list[tuple]:
+    """Each left toe as a capsule: its ends (world), from near the joint to its tip, and
+    its radius."""
+    d, w, _ = foot_axes()
+    root = np.array(TOE_ROOT)
+    out = []
+    for tip in np.array(VISUAL_TOES):
+        start = root + 0.12 * (tip - root)
+        out.append((pos + start[0] * d + start[1] * w, pos + tip[0] * d + tip[1] * w, TOE_RADIUS))
+    return out
+
+
+def finger_lines(pos, d) -> list[tuple]:
+    """Each left finger as a capsule: its ends (world), fanning forward and a little down
+    from the end of the forearm at ``pos``, which points along ``d``; and its radius."""
+    out = []
+    for angle, length in FINGERS:
+        heading = np.arctan2(d[1], d[0]) + np.radians(angle)
+        out.append((pos, pos + length * direction(np.degrees(heading), -15.0), FINGER_RADIUS))
+    return out
+
+
 def mirror(points) -> np.ndarray:
     """Reflect points (or axes) in the x-z plane: the right side of the left one."""
     return np.asarray(points) * np.array([1.0, -1.0, 1.0])
@@ -155,16 +238,20 @@ def left_limbs() -> list[list[dict]]:
                 joints=joints,
                 mesh=mesh,
                 colour=GREEN if k < 2 else DARK,
+                looks=slim_looks(name, pos, d, length, DARK),
             )
         )
         pos = pos + length * d
     d_foot = direction(FOOT["angle"])
     web = web_plate()
     across = (web[2] - web[0]) / np.linalg.norm(web[2] - web[0])  # the web's width
+    sole = (pos, pos + SOLE[0] * d_foot, SOLE[1])
+    looks = [("web", "mesh", web_visual(pos), WEB), ("sole", "capsule", sole, DARK)]
+    looks += [(f"toe{i + 1}", "capsule", ends, DARK) for i, ends in enumerate(toe_lines(pos))]
     chain.append(dict(
         name="foot", pos=pos, rot=frame(d_foot, across),
         joints=[("tmt", z, LIMITS["tmt"]), ("foot_twist", d_foot, LIMITS["foot_twist"])],
-        mesh=pos + web, colour=WEB,
+        mesh=pos + web, colour=WEB, looks=looks,
     ))  # fmt: skip
     arm, pos = [], np.array(SHOULDER)
     for k, (name, length, psi, dip, end0, end1) in enumerate(FORE):
@@ -177,9 +264,34 @@ def left_limbs() -> list[list[dict]]:
         else:
             joints = [("elbow", z, LIMITS["elbow"])]
         mesh = pos + segment_hull(d, length, end0, end1)
-        arm.append(dict(name=name, pos=pos, rot=frame(d), joints=joints, mesh=mesh, colour=GREEN))
+        looks = slim_looks(name, pos, d, length, GREEN)
+        if name == "forearm":
+            ends = finger_lines(pos + length * d, d)
+            looks += [(f"finger{i + 1}", "capsule", e, GREEN) for i, e in enumerate(ends)]
+        arm.append(dict(name=name, pos=pos, rot=frame(d), joints=joints, mesh=mesh, colour=GREEN,
+                        looks=looks))  # fmt: skip
         pos = pos + length * d
     return [chain, arm]
+
+
+def slim_looks(name: str, pos, d, length: float, colour: str) -> list:
+    """A link's slim visual segment (``VISUAL_LIMBS``), or none for a link not thickened."""
+    if name not in VISUAL_LIMBS:
+        return []
+    end0, end1 = VISUAL_LIMBS[name]
+    return [("slim", "hull", pos + segment_hull(d, length, end0, end1), colour)]
+
+
+def reflected_look(look):
+    """A visual geom of the right side: its points reflected (a mesh's faces turned)."""
+    name, kind, shape, colour = look
+    if kind == "mesh":
+        vertices, faces = shape
+        return name, kind, (mirror(vertices), faces[:, ::-1]), colour
+    if kind == "capsule":
+        *points, radius = shape
+        return name, kind, (*(mirror(p) for p in points), radius), colour
+    return name, kind, mirror(shape), colour
 
 
 def reflected(link: dict) -> dict:
@@ -191,6 +303,7 @@ def reflected(link: dict) -> dict:
         rot=m @ link["rot"] @ m,
         mesh=mirror(link["mesh"]),
         joints=[(j, mirror(a), lim) for j, a, lim in link["joints"]],
+        looks=[reflected_look(look) for look in link.get("looks", [])],
     )
 
 
@@ -215,9 +328,29 @@ def chain_xml(chain, side: str, indent: str, asset: list) -> list[str]:
             f'{pad}  <geom name="{name}" type="mesh" mesh="{name}" rgba="{link["colour"]}"/>'
         )
         asset.append(f'    <mesh name="{name}" vertex="{fmt((link["mesh"] - pos) @ rot)}"/>')
+        for look in link.get("looks", []):
+            lines.append(f"{pad}  " + look_xml(name, look, pos, rot, asset))
         parent_pos, parent_rot = pos, rot
     lines += [indent + "  " * k + "</body>" for k in range(len(chain) - 1, -1, -1)]
     return lines
+
+
+def look_xml(link: str, look, pos, rot, asset: list) -> str:
+    """A visual geom's line in its link's frame (origin ``pos``, axes ``rot``, world);
+    a mesh's asset is appended to ``asset``."""
+    what, kind, shape, colour = look
+    name = f"{link}_{what}"
+    start = f'<geom name="{name}" class="visual" '
+    if kind == "capsule":
+        *points, radius = shape
+        ends = fmt(np.concatenate([(p - pos) @ rot for p in points]))
+        return start + f'type="capsule" fromto="{ends}" size="{radius:g}" rgba="{colour}"/>'
+    if kind == "mesh":
+        vertices, faces = shape
+        asset.append(mesh_xml(name, (vertices - pos) @ rot, faces))
+    else:  # a convex hull
+        asset.append(mesh_xml(name, (shape - pos) @ rot))
+    return start + f'type="mesh" mesh="{name}" rgba="{colour}"/>'
 
 
 def frog_xml() -> str:
@@ -233,6 +366,10 @@ def frog_xml() -> str:
             body += chain_xml(chain, side, "      ", asset)
     body.append("    </body>")
     summary = "a ranid frog 8 cm snout to vent, webbed hind feet, 18 hinges, 3D."
+    visual = (
+        "on each foot five toes and a 0.6 mm web between them; a slim tarsus, upper arm "
+        "and forearm, and four fingers."
+    )
     return mjcf(
         "frog",
         summary,
@@ -240,6 +377,7 @@ def frog_xml() -> str:
         Path(__file__).name,
         asset="\n".join(asset),
         source="dimensions",
+        visual=visual,
     )
 
 

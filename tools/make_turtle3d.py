@@ -17,13 +17,24 @@ down). Left and right are mirror images in the x-z plane.
 Dimensions (metres) are those of a subadult green turtle (Chelonia mydas) of
 0.70 m straight carapace length; ``src/aquagait/creatures/turtle3d.py`` gives
 the sources and why the flippers are thicker than real.
+
+The plates are 120 mm thick so that the 60 mm cells see them; drawn so, the
+turtle paddles with planks. So each flipper link also carries a *visual*
+flipper (a massless geom of class ``visual``, drawn in place of the plate and
+ignored by the water; ``tools/creature_mjcf.py``): a smooth, thin blade
+(``foil``) whose outline follows a sea turtle's: the front flipper long and
+narrow, widest at the wrist and curving back to a pointed tip, cut at the
+wrist into the arm's and the hand's pieces; the rear flipper a rounded
+paddle. They are ``VISUAL_ROOT_THICKNESS`` thick at the root, thinning
+towards the tip, as a real flipper's 2-3 cm.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from creature_mjcf import fmt, mjcf
+import numpy as np
+from creature_mjcf import fmt, foil, mesh_xml, mjcf
 
 OUT = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures"
 
@@ -52,6 +63,48 @@ REAR = {
 }
 SHELL_COLOUR, SKIN_COLOUR = "0.36 0.31 0.18 1", "0.55 0.52 0.40 1"
 
+# The visual flippers (no mass; drawn only), along the whole flipper's span r
+# from the shoulder or hip: chord, how far its middle lies behind the span
+# axis (the flipper curves back), and thickness [m].
+VISUAL_ROOT_THICKNESS = {"front": 0.03, "rear": 0.022}
+VISUAL_TIP_THICKNESS = 0.006
+TIP_CHORD = 0.006  # where the outline closes, rounded [m]
+
+
+def front_outline(r):
+    """The front flipper's chord and its middle's offset along local x [m] at span r:
+    0.13 m at the shoulder, widest (0.14 m) at the wrist, narrowing to a pointed tip
+    that curves back (0.33 m span)."""
+    wrist, length = FRONT["links"][0][1], sum(link[1] for link in FRONT["links"])
+    u = np.clip((r - wrist) / (length - wrist), 0, 1)
+    chord = np.where(r < wrist, 0.13 + 0.01 * r / wrist, 0.14 * (1 - u**1.6) ** 0.6)
+    return chord, -0.06 * (r / length) ** 2
+
+
+def rear_outline(r):
+    """The rear flipper's: 0.13 m at the hip, a rounded paddle 0.18 m long."""
+    length = REAR["links"][0][1]
+    u = np.clip(r / length, 0, 1)
+    return 0.13 * (1 + 0.15 * np.sin(np.pi * u)) * (1 - u**4) ** 0.5, -0.02 * u**2
+
+
+def visual_piece(kind: str, r0: float, r1: float, side: int):
+    """The visual flipper between spans r0 and r1 of a ``kind`` ('front' or 'rear')
+    flipper, in the frame of the link that starts at r0: a closed mesh."""
+    outline = front_outline if kind == "front" else rear_outline
+    length = r1
+    r = np.linspace(r0, r1, 200)
+    chord, _ = outline(r)
+    r1 = r[np.flatnonzero(chord > TIP_CHORD)[-1]]  # the tip: where the outline closes
+    r = np.linspace(r0, r1, 12)
+    chord, middle = outline(r)
+    taper = VISUAL_ROOT_THICKNESS[kind] + (VISUAL_TIP_THICKNESS - VISUAL_ROOT_THICKNESS[kind]) * (
+        r / length)  # fmt: skip
+    vertices, faces = foil(r - r0, middle + chord / 2, middle - chord / 2, taper / 2, chords=10)
+    if side < 0:
+        vertices, faces = vertices * [1, -1, 1], faces[:, ::-1]
+    return vertices, faces
+
 
 def plate(length: float, root: float, tip: float, side: int) -> list[tuple[float, float, float]]:
     """A tapered flipper plate: 8 vertices, span ``length`` along local ``side`` * y
@@ -68,12 +121,17 @@ def plate(length: float, root: float, tip: float, side: int) -> list[tuple[float
 def flipper(spec: dict, side: int, indent: str) -> tuple[list[str], dict]:
     """MJCF bodies and meshes of one flipper; ``side`` +1 left, -1 right."""
     label = "l" if side > 0 else "r"
+    kind = "front" if spec is FRONT else "rear"
+    total = sum(link[1] for link in spec["links"])
     x, y, z = spec["pos"]
     pos, euler = (x, side * y, z), side * spec["sweep_deg"]  # sweep back about z
-    lines, meshes = [], {}
+    lines, meshes, r0 = [], {}, 0.0
     for k, (name, length, root, tip, joints) in enumerate(spec["links"]):
         pad, body = indent + "  " * k, f"{name}_{label}"
         meshes[body] = plate(length, root, tip, side)
+        r1 = r0 + length if k < len(spec["links"]) - 1 else total
+        meshes[f"{body}_look"] = visual_piece(kind, r0, r1, side)
+        r0 = r1
         lines.append(f'{pad}<body name="{body}" pos="{fmt([pos])}" euler="0 0 {euler:g}">')
         lines += [
             f'{pad}  <joint name="{joint}_{label}" type="hinge" axis="{axis}" '
@@ -81,6 +139,8 @@ def flipper(spec: dict, side: int, indent: str) -> tuple[list[str], dict]:
             for joint, axis, limit in joints
         ]
         lines.append(f'{pad}  <geom name="{body}" type="mesh" mesh="{body}" rgba="{SKIN_COLOUR}"/>')
+        lines.append(f'{pad}  <geom name="{body}_look" class="visual" type="mesh" '
+                     f'mesh="{body}_look" rgba="{SKIN_COLOUR}"/>')  # fmt: skip
         pos, euler = (0.0, side * length, 0.0), 0
     lines += [indent + "  " * k + "</body>" for k in range(len(spec["links"]) - 1, -1, -1)]
     return lines, meshes
@@ -101,9 +161,16 @@ def turtle3d_xml() -> str:
             lines += body
             meshes |= mesh
     lines.append("    </body>")
-    asset = "\n".join(f'    <mesh name="{n}" vertex="{fmt(v)}"/>' for n, v in meshes.items())
+    asset = "\n".join(
+        mesh_xml(n, *v) if isinstance(v, tuple) else mesh_xml(n, v) for n, v in meshes.items()
+    )
     summary = "a 0.7 m green sea turtle, shell, two 2-link front and two rear flippers, 3D."
-    return mjcf("turtle3d", summary, "\n".join(lines), Path(__file__).name, asset=asset)
+    visual = (
+        "per flipper link, its piece of a thin, smooth flipper (30 mm thick at the front "
+        "flipper's root, 6 mm at the tip) shaped as a sea turtle's."
+    )
+    return mjcf("turtle3d", summary, "\n".join(lines), Path(__file__).name, asset=asset,
+                visual=visual)  # fmt: skip
 
 
 if __name__ == "__main__":

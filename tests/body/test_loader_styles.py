@@ -237,13 +237,18 @@ def test_mujocos_own_error_names_the_file_and_line_it_came_from(tmp_path):
 
 @pytest.mark.parametrize("path", sorted(CREATURES.glob("*.xml")), ids=lambda p: p.stem)
 def test_library_creatures_load_as_mujoco_loads_their_files_with_no_notes(path):
+    """No notes but the one that names a visual body's geoms (only drawn); the bounds
+    are those of the geoms with mass, as MuJoCo places them."""
     model = load_model(path)
     facts = describe(compile_mjcf(path=path))  # MuJoCo reading the file itself
-    assert model.notes == ()
+    drawn = {v.name for link in model.visuals for v in link}
+    assert len(model.notes) == (1 if drawn else 0)
+    assert all(n.startswith(f"{len(drawn)} geoms (") and "only drawn" in n for n in model.notes)
     np.testing.assert_array_equal(model.link_mass, facts.link_mass)
     np.testing.assert_array_equal(model.qpos0, facts.qpos0)
-    np.testing.assert_array_equal(model.bounds[0], facts.geom_box[:, 0].min(axis=0))
-    np.testing.assert_array_equal(model.bounds[1], facts.geom_box[:, 1].max(axis=0))
+    massive = np.array([name not in drawn for name in facts.geom_names])
+    np.testing.assert_array_equal(model.bounds[0], facts.geom_box[massive, 0].min(axis=0))
+    np.testing.assert_array_equal(model.bounds[1], facts.geom_box[massive, 1].max(axis=0))
 
 
 def test_model_errors_pickle_and_one_problem_reads_as_one_line():

@@ -5,7 +5,9 @@ import pytest
 
 import aquagait as ag
 from aquagait.app.check import prepare_check, run_check
+from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import link_volumes
+from aquagait.body.meshes import link_meshes
 from aquagait.creatures import get
 
 RHO = 1000.0
@@ -93,3 +95,20 @@ def test_shipped_gait_swims_forward_and_straight(manta):
     )
     assert abs(roll) < np.deg2rad(1) and abs(yaw) < np.deg2rad(1)
     assert 0 < traj.energy[-1].sum() < manta.energy_bound
+
+
+def test_its_visual_body_is_a_thin_wing_over_its_thick_plates(manta):
+    """From the front the drawn fins are a few millimetres thick where the fluid's plates
+    are 45 mm; from above they span the same width within a 25 mm cell."""
+    model = manta.model
+    pos, rot = Dynamics(model.mj).link_poses(model.qpos0)
+
+    def extent(meshes, links):
+        world = np.concatenate([pos[k] + meshes[k].vertices @ rot[k].T for k in links])
+        return np.ptp(world, axis=0)
+
+    fins = range(1, len(model.links))
+    drawn, shape = link_meshes(model), link_meshes(model, visual=False)
+    assert extent(shape, fins)[2] == pytest.approx(0.045)
+    assert extent(drawn, fins)[2] <= 0.0071  # the wing root's 7 mm
+    assert extent(drawn, fins)[1] == pytest.approx(extent(shape, fins)[1], abs=0.025)

@@ -24,7 +24,12 @@ the thinnest links), three or four times a real fin's thickness at its root,
 so that the fluid sees them; the body is 54 mm deep and 90 mm wide. All of it
 water density, so the model (2.75 kg) is several times heavier than a real
 ray of its span (roughly 0.5 kg, scaling an adult manta's mass, about a
-tonne at 4.5 m across, by the cube of the span).
+tonne at 4.5 m across, by the cube of the span). Pictures draw a ray, not
+the plates: every link carries massless visual geoms, which the water, the
+masses and ``aquagait check`` ignore (``aquagait.body.reshape``,
+visual-only geoms): per plate its share of one thin, falcate wing (7 mm at
+the root, thinner to the tip; dorsal half dark, ventral half pale), and on
+the body a flattened disc, the cephalic lobes and a tail stump.
 
 ===========================  ==========  =====================================
 link                         mass [kg]   geometry

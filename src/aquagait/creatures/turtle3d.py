@@ -28,7 +28,11 @@ each link's box turned with it; ``aquagait.sim.follow``). The flipper plates
 are 120 mm thick, two cells of the default 60 mm grid, about five times a
 real flipper's 2-3 cm: the fluid must see them (fish.py's caudal fin is
 thicker than real for the same reason), and at this grid a thinner flipper
-would be invisible.
+would be invisible. Pictures draw the flippers as they are, though: each
+flipper link carries a massless visual geom, a smooth blade 30 mm thick at
+the front flipper's root and 6 mm at its tip, shaped as a sea turtle's,
+which the water, the masses and ``aquagait check`` ignore
+(``aquagait.body.reshape``, visual-only geoms).
 
 =========  ==========  =========  ==================================================
 link       length [m]  mass [kg]  geometry
