@@ -146,10 +146,12 @@ def test_a_wake_trace_is_as_opaque_as_the_vorticity_where_it_is():
     zeros = np.zeros((count, fish.nv))
     traj = Trajectory(np.arange(count) / 30, np.tile(fish.qpos0, (count, 1)), zeros, zeros,
                       zeros, dt=1 / 90, fps=30.0, fluid=fluid)  # fmt: skip
-    *_, (traces, alpha) = wake(traj, fish, count=4000, lifetime=100)
+    *_, (traces, alpha, turning) = wake(traj, fish, count=4000, lifetime=100)
+    assert np.all(np.abs(turning) <= 1) and np.all(turning[alpha == 0] == 0)
     now = traces[:, -1]
     radius = np.hypot(*(now[:, :2] - at[:2]).T)
     near = (radius < core) & (np.abs(now[:, 2]) < core)
     far = radius > 4 * core
     assert near.sum() > 5 and far.sum() > 100
     assert alpha[near, -1].mean() > 0.5 and alpha[far, -1].max() < 0.05
+    assert turning[near, -1].min() > 0.2  # counter-clockwise about +z: positive spin

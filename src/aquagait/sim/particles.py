@@ -165,15 +165,19 @@ def wake(
     seed: int = 0,
     vorticity_scale: float | None = None,
     margin: float = 0.5,
-) -> Iterator[tuple[np.ndarray, np.ndarray]]:
-    """A swim's wake: particle traces and their opacity, frame by frame (DESIGN.md §2.7).
+    axis: int = 2,
+) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """A swim's wake: particle traces, their opacity and spin, frame by frame (DESIGN.md §2.7).
 
     ``count`` particles are seeded in the body's bounding box grown by
     ``margin`` body lengths on every side and live ``lifetime`` frames. A
     trace position is as opaque as the vorticity magnitude where the particle
     was at that frame, ``sqrt(|omega| / vorticity_scale)`` clipped to 1 (the
     square root keeps weak vortices in sight), fading to 15% at the trace's
-    old end; still water is transparent.
+    old end; still water is transparent. Its spin is the vorticity's component
+    along the world ``axis`` there, over ``vorticity_scale``, clipped to [-1, 1]
+    (in 2D the vorticity is a scalar, about z, whatever the axis): positive
+    turns counter-clockwise seen from the axis' tip.
 
     Args:
         trajectory: a ``Trajectory`` with fluid frames (2D or 3D).
@@ -182,26 +186,32 @@ def wake(
         vorticity_scale: |vorticity| [1/s] at full opacity; None: the 99th
             percentile over the fluid cells of all frames (``vorticity_percentile``).
         margin: the seeding box's margin [body lengths].
+        axis: 3D: the world axis (0, 1, 2: x, y, z) whose vorticity component is the spin.
 
     Yields:
         per frame: traces (N, length, dim) [m] as ``particle_traces`` yields
-        them, and opacity (N, length) in [0, 1].
+        them, opacity (N, length) in [0, 1] and spin (N, length) in [-1, 1].
     """
     fluid, time = trajectory.fluid, trajectory.time
     region = body_boxes(model, trajectory.qpos)[:, :, : fluid.dim]
     region += np.array([-1.0, 1.0])[None, :, None] * margin * model.body_length
     scale = vorticity_scale or vorticity_percentile(fluid)
     fade = np.linspace(0.15, 1.0, length)
-    strength = np.zeros((count, length))
+    strength, spin = np.zeros((count, length)), np.zeros((count, length))
     traces = particle_traces(fluid, time, length=length, substeps=substeps, seed=seed,
                              count=count, region=region, lifetime=lifetime)  # fmt: skip
     for f, now in enumerate(traces):
-        magnitude = vorticity_magnitude(fluid, f)
-        value = sample(magnitude, fluid.origin[f], fluid.cell_size, np.nan_to_num(now[:, -1]))
-        strength = np.roll(strength, -1, axis=1)
-        strength[:, -1] = np.sqrt(np.clip(value / scale, 0.0, 1.0))
-        strength[np.isnan(now[..., 0])] = 0.0  # a re-seeded particle's old trace
-        yield now, strength * fade
+        omega = vorticity(fluid, f)
+        magnitude = np.abs(omega) if fluid.dim == 2 else np.sqrt((omega**2).sum(axis=0))
+        along = omega if fluid.dim == 2 else omega[axis]
+        head = np.nan_to_num(now[:, -1])
+        value = sample(np.stack([magnitude, along]), fluid.origin[f], fluid.cell_size, head)
+        strength, spin = np.roll(strength, -1, axis=1), np.roll(spin, -1, axis=1)
+        strength[:, -1] = np.sqrt(np.clip(value[0] / scale, 0.0, 1.0))
+        spin[:, -1] = np.clip(value[1] / scale, -1.0, 1.0)
+        young = np.isnan(now[..., 0])  # a re-seeded particle's old trace
+        strength[young], spin[young] = 0.0, 0.0
+        yield now, strength * fade, spin
 
 
 def vorticity_percentile(fluid: FluidFrames, percentile: float = 99.0) -> float:

@@ -85,8 +85,8 @@ def swim_export(
     lines = alpha = None
     if trajectory.fluid is not None and traces > 0:
         frames = list(wake(trajectory, model, count=traces, seed=seed))
-        lines = np.array([t for t, _ in frames], np.float32)
-        alpha = np.array([a for _, a in frames], np.float32)
+        lines = np.array([t for t, _, _ in frames], np.float32)
+        alpha = np.array([a for _, a, _ in frames], np.float32)
         if lines.shape[-1] == 2:  # a 2D swim's traces lie in the plane z = 0
             z = np.where(np.isnan(lines[..., :1]), np.nan, 0.0).astype(np.float32)
             lines = np.concatenate([lines, z], axis=-1)
