@@ -166,9 +166,10 @@ def test_a_trace_behind_the_body_is_hidden_and_one_in_front_is_not(ball):
 def test_trace_segments_skip_every_segment_with_a_missing_end():
     traces = np.zeros((2, 4, 3))
     traces[0, :2] = np.nan  # younger than the window: two positions known
-    segments = trace_segments(traces, np.full((2, 4), 0.5))
-    assert segments.shape == (2 * (1 + 3), 4)
-    assert (segments[:, 3] == 0.5).all()
+    segments = trace_segments(traces, np.full((2, 4), 0.5), colour=(0.1, 0.2, 0.3))
+    assert segments.shape == (2 * (1 + 3), 7)
+    assert (segments[:, 6] == 0.5).all()
+    assert np.allclose(segments[:, 3:6], [0.1, 0.2, 0.3])
 
 
 # --- contexts ----------------------------------------------------------------------

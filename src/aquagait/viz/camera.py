@@ -16,11 +16,15 @@ VIEWS = {
     "side": (np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0])),
     "top": (np.array([0.0, 0.0, -1.0]), np.array([0.0, 1.0, 0.0])),
     "follow": (np.array([1.0, 1.0, -0.7]) / math.sqrt(2.49), np.array([0.0, 0.0, 1.0])),
+    "side-above": (np.array([0.25, 1.0, -0.6]) / math.sqrt(1.4225), np.array([0.0, 0.0, 1.0])),
+    "front-above": (np.array([-0.8, 0.35, -0.7]) / math.sqrt(1.2525), np.array([0.0, 0.0, 1.0])),
 }
 """Per view: the direction the camera looks and the world direction that is up
 on screen. 'side' looks along +y (a fish swimming along +x faces right, z up),
 'top' looks down -z with +y up, 'follow' looks from behind (-x), beside (-y)
-and above (+z)."""
+and above (+z); 'side-above' from the side and above, a little behind (a
+turtle's flippers); 'front-above' from in front, above and a little beside
+(a ray's wings)."""
 
 
 @dataclass(frozen=True)
@@ -72,7 +76,7 @@ def view_camera(
     lies within ``fill`` of the half-width and half-height of the picture.
 
     Args:
-        view: 'side', 'top' or 'follow' (``VIEWS``).
+        view: one of ``VIEWS``.
         center: (3,) the box's centre [m]; the camera looks at it.
         extent: (3,) the box's sides [m].
         aspect: picture width / height.

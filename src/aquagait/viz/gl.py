@@ -11,18 +11,23 @@ made, so importing this module needs none of it.
 
 The body is drawn once per link: each link's triangles, built once in the
 link's own frame (``link_meshes``), are placed by that frame's world
-pose, ``x = p + R x_link``. Shading is Lambert from a key and a fill light
-fixed to the camera (so the side the camera sees is lit in every view), an
-ambient term and a Blinn-Phong highlight. Traces are line segments, alpha
-blended over what is drawn and depth tested against the body, writing no
-depth of their own (a trace behind the body is hidden; traces do not hide
-each other).
+pose, ``x = p + R x_link``. Shading is soft: Lambert from a key and a fill
+light fixed to the camera (so the side the camera sees is lit in every
+view), a hemisphere ambient (brighter from above, world +z, than from below)
+and a faint Blinn-Phong highlight. Over the body, in this order: surfaces
+(the wake's vortices: triangles in world coordinates with a colour and an
+opacity per vertex, lit from both sides), then traces and lines (line
+segments with a colour and an opacity per vertex). Both are alpha blended
+and depth tested against the body, writing no depth of their own (what lies
+behind the body is hidden; they do not hide each other).
 
 The meshes come from ``aquagait.body.meshes``, the camera from
 ``aquagait.viz.camera`` (whose image convention ``draw`` follows: top row first).
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -67,9 +72,39 @@ in vec3 colour;
 out vec4 pixel;
 void main() {
     vec3 n = normalize(normal);
-    float diffuse = 0.65 * max(dot(n, key), 0.0) + 0.25 * max(dot(n, fill), 0.0);
-    float highlight = pow(max(dot(n, normalize(key + normalize(eye - world))), 0.0), 40.0);
-    pixel = vec4(min(colour * (0.2 + diffuse) + 0.2 * highlight, 1.0), 1.0);
+    float diffuse = 0.55 * max(dot(n, key), 0.0) + 0.25 * max(dot(n, fill), 0.0);
+    float sky = 0.18 + 0.12 * n.z;  // hemisphere ambient: brighter from above
+    float highlight = pow(max(dot(n, normalize(key + normalize(eye - world))), 0.0), 30.0);
+    pixel = vec4(min(colour * (sky + diffuse) + 0.12 * highlight, 1.0), 1.0);
+}
+"""
+
+SURFACE_VERTEX = """
+#version 330
+uniform mat4 view_projection;
+in vec3 in_position;
+in vec3 in_normal;
+in vec4 in_colour;
+out vec3 normal;
+out vec4 colour;
+void main() {
+    normal = in_normal;
+    colour = in_colour;
+    gl_Position = view_projection * vec4(in_position, 1.0);
+}
+"""
+
+SURFACE_FRAGMENT = """
+#version 330
+uniform vec3 key;
+uniform vec3 fill;
+in vec3 normal;
+in vec4 colour;
+out vec4 pixel;
+void main() {
+    vec3 n = normalize(normal);  // lit from both sides: a surface, not a solid
+    float diffuse = 0.5 * abs(dot(n, key)) + 0.2 * abs(dot(n, fill));
+    pixel = vec4(min(colour.rgb * (0.45 + diffuse), 1.0), colour.a);
 }
 """
 
@@ -77,21 +112,20 @@ TRACE_VERTEX = """
 #version 330
 uniform mat4 view_projection;
 in vec3 in_position;
-in float in_alpha;
-out float alpha;
+in vec4 in_colour;
+out vec4 colour;
 void main() {
-    alpha = in_alpha;
+    colour = in_colour;
     gl_Position = view_projection * vec4(in_position, 1.0);
 }
 """
 
 TRACE_FRAGMENT = """
 #version 330
-uniform vec3 tint;
-in float alpha;
+in vec4 colour;
 out vec4 pixel;
 void main() {
-    pixel = vec4(tint, alpha);
+    pixel = colour;
 }
 """
 
@@ -151,9 +185,12 @@ class Renderer:
                 vertex_shader=TRACE_VERTEX, fragment_shader=TRACE_FRAGMENT
             )
             self._links = [self._upload(mesh) for mesh in meshes]
-            self._trace_buffer = self._ctx.buffer(reserve=16)
+            self._trace_buffer = self._ctx.buffer(reserve=28)
             self._trace_vao = self._ctx.vertex_array(
-                self._trace, [(self._trace_buffer, "3f 1f", "in_position", "in_alpha")]
+                self._trace, [(self._trace_buffer, "3f 4f", "in_position", "in_colour")]
+            )
+            self._surface = self._ctx.program(
+                vertex_shader=SURFACE_VERTEX, fragment_shader=SURFACE_FRAGMENT
             )
             self._image = self._framebuffer(0)
             self._target = self._framebuffer(samples) if samples else self._image
@@ -189,8 +226,9 @@ class Renderer:
             self._ctx = None
 
     def draw(self, link_pos, link_rot, camera: Camera, traces=None, trace_alpha=None,
-             trace_colour=(0.1, 0.2, 0.45), lines=()) -> np.ndarray:  # fmt: skip
-        """One picture: the links at their poses, then the traces and lines over them.
+             trace_colour=(0.1, 0.2, 0.45), lines=(), trace_colours=None,
+             surfaces=()) -> np.ndarray:  # fmt: skip
+        """One picture: the links at their poses, then surfaces, traces and lines over them.
 
         Args:
             link_pos: (nlinks, 3) world origins of the links [m]; or (K, nlinks, 3)
@@ -201,9 +239,13 @@ class Renderer:
             traces: (N, L, 3) world positions [m] of N particles over their last
                 L frames, oldest first; NaN where a trace is younger than L.
             trace_alpha: (N, L) opacity in [0, 1] at each position; default 1.
-            trace_colour: RGB in [0, 1] of the traces.
-            lines: ``(points, rgb)`` pairs: opaque polylines through (n, 3) world
-                points [m] (a path to follow), hidden by the body.
+            trace_colour: RGB in [0, 1] of the traces, unless ``trace_colours``.
+            lines: ``(points, rgb)`` or ``(points, rgba)`` pairs: polylines
+                through (n, 3) world points [m] (a path to follow, a ground grid),
+                hidden by the body; opaque unless an alpha is given.
+            trace_colours: (N, L, 3) RGB in [0, 1] at each trace position.
+            surfaces: ``SurfaceMesh`` items: triangles in world coordinates with a
+                colour and opacity per vertex (the wake's vortices).
         Returns:
             (height, width, 3) uint8 RGB, top row first.
         """
@@ -217,7 +259,9 @@ class Renderer:
             raise ValueError(f"link poses of shapes {link_pos.shape} and {link_rot.shape}; "
                              f"the renderer has {n} links: ({n}, 3) and ({n}, 3, 3), "
                              "or K of each")  # fmt: skip
-        segments = None if traces is None else trace_segments(traces, trace_alpha)
+        segments = None
+        if traces is not None:
+            segments = trace_segments(traces, trace_alpha, trace_colours, trace_colour)
         with self._ctx:
             self._target.use()
             self._target.clear(*self.background, 1.0, depth=1.0)
@@ -226,12 +270,17 @@ class Renderer:
             )
             for pos, rot in zip(link_pos, link_rot, strict=True):
                 self._draw_links(pos, rot, camera, view_projection)
+            for surface in surfaces:
+                self._draw_surface(surface, camera, view_projection)
             if segments is not None and len(segments):
-                self._draw_traces(segments, view_projection, trace_colour)
+                self._draw_traces(segments, view_projection)
             for points, colour in lines:
-                line = trace_segments(np.asarray(points, dtype=float)[None])
+                colour = tuple(colour)
+                alpha = colour[3] if len(colour) == 4 else 1.0
+                points = np.asarray(points, dtype=float)[None]
+                line = trace_segments(points, np.full(points.shape[:2], alpha), None, colour[:3])
                 if len(line):
-                    self._draw_traces(line, view_projection, colour, 2 * self.line_width)
+                    self._draw_traces(line, view_projection, 2 * self.line_width)
             if self._target is not self._image:
                 self._ctx.copy_framebuffer(self._image, self._target)
             pixels = self._image.read(components=3, alignment=1)
@@ -246,17 +295,40 @@ class Renderer:
         self._ctx.depth_mask = True
         self._body["view_projection"].write(view_projection)
         self._body["eye"].value = tuple(camera.eye)
-        self._body["key"].value = tuple(
-            unit(0.4 * up - 0.3 * right - forward)
-        )  # over the left shoulder
-        self._body["fill"].value = tuple(unit(0.6 * right - 0.2 * up - forward))
+        key, fill = _lights(camera)
+        self._body["key"].value, self._body["fill"].value = key, fill
         for vao, origin, rotation in zip(self._links, link_pos, link_rot, strict=True):
             if vao is not None:
                 self._body["origin"].value = tuple(origin)
                 self._body["rotation"].write(_gl(rotation))
                 vao.render()
 
-    def _draw_traces(self, segments: np.ndarray, view_projection: bytes, colour,
+    def _draw_surface(self, surface: SurfaceMesh, camera: Camera, view_projection: bytes) -> None:
+        import moderngl
+
+        if len(surface.triangles) == 0:
+            return
+        attributes = np.hstack([surface.vertices, surface.normals, surface.colours]).astype("f4")
+        vertices = self._ctx.buffer(attributes.tobytes())
+        indices = self._ctx.buffer(np.asarray(surface.triangles, dtype="i4").tobytes())
+        vao = self._ctx.vertex_array(
+            self._surface,
+            [(vertices, "3f 3f 4f", "in_position", "in_normal", "in_colour")],
+            indices,
+        )
+        self._ctx.enable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        self._ctx.disable(moderngl.CULL_FACE)
+        self._ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        self._ctx.depth_mask = False  # hidden by the body, never by each other
+        self._surface["view_projection"].write(view_projection)
+        key, fill = _lights(camera)
+        self._surface["key"].value, self._surface["fill"].value = key, fill
+        vao.render()
+        self._ctx.depth_mask = True
+        for thing in (vao, indices, vertices):
+            thing.release()
+
+    def _draw_traces(self, segments: np.ndarray, view_projection: bytes,
                      width: float | None = None) -> None:  # fmt: skip
         import moderngl
 
@@ -270,20 +342,46 @@ class Renderer:
         self._ctx.depth_mask = False  # traces are hidden by the body, never by each other
         self._ctx.line_width = self.line_width if width is None else width
         self._trace["view_projection"].write(view_projection)
-        self._trace["tint"].value = tuple(float(c) for c in colour)
         self._trace_vao.render(moderngl.LINES, vertices=len(segments))
         self._ctx.depth_mask = True
 
 
-def trace_segments(traces, alpha=None) -> np.ndarray:
+@dataclass(frozen=True)
+class SurfaceMesh:
+    """Triangles to draw see-through over the body (the wake's vortices).
+
+    Attributes:
+        vertices: (n, 3) world positions [m].
+        normals: (n, 3) unit normals (either side: the surface is lit from both).
+        colours: (n, 4) RGBA in [0, 1], the alpha its opacity.
+        triangles: (m, 3) vertex indices.
+    """
+
+    vertices: np.ndarray
+    normals: np.ndarray
+    colours: np.ndarray
+    triangles: np.ndarray
+
+
+def _lights(camera: Camera) -> tuple[tuple, tuple]:
+    """The key light, over the camera's left shoulder, and the fill, low on its right."""
+    right, up, forward = camera.basis()
+    return tuple(unit(0.4 * up - 0.3 * right - forward)), tuple(
+        unit(0.6 * right - 0.2 * up - forward)
+    )
+
+
+def trace_segments(traces, alpha=None, colours=None, colour=(0.0, 0.0, 0.0)) -> np.ndarray:
     """The line segments of particle traces, as the renderer uploads them.
 
     Args:
         traces: (N, L, 3) positions [m], oldest first, NaN where a trace is younger.
         alpha: (N, L) opacity in [0, 1]; default 1.
+        colours: (N, L, 3) RGB in [0, 1] at each position; default ``colour`` everywhere.
+        colour: RGB in [0, 1] of every position without ``colours``.
     Returns:
-        (2 S, 4) float32 rows (x, y, z, alpha): the two ends of each of the S
-        segments whose ends are both finite.
+        (2 S, 7) float32 rows (x, y, z, r, g, b, alpha): the two ends of each of
+        the S segments whose ends are both finite.
     """
     traces = np.asarray(traces, dtype=np.float32)
     if traces.ndim != 3 or traces.shape[2] != 3:
@@ -293,10 +391,15 @@ def trace_segments(traces, alpha=None) -> np.ndarray:
     )
     if alpha.shape != traces.shape[:2]:
         raise ValueError(f"trace_alpha must be (N, L) = {traces.shape[:2]}, got {alpha.shape}")
-    ends = np.concatenate([traces, alpha[..., None]], axis=-1)
+    if colours is None:
+        colours = np.broadcast_to(np.asarray(colour, np.float32), traces.shape)
+    colours = np.asarray(colours, np.float32)
+    if colours.shape != traces.shape:
+        raise ValueError(f"trace colours must be (N, L, 3) = {traces.shape}, got {colours.shape}")
+    ends = np.concatenate([traces, colours, alpha[..., None]], axis=-1)
     known = np.isfinite(traces).all(axis=-1)
     keep = known[:, :-1] & known[:, 1:]
-    return np.stack([ends[:, :-1][keep], ends[:, 1:][keep]], axis=1).reshape(-1, 4)
+    return np.stack([ends[:, :-1][keep], ends[:, 1:][keep]], axis=1).reshape(-1, 7)
 
 
 def _gl(matrix: np.ndarray) -> bytes:
