@@ -82,6 +82,20 @@ def _convergence(creature, seconds: float, out: Path) -> list[str]:
     return write_convergence(study, out)
 
 
+def _look_flags(parser) -> None:
+    """--view, --wake and --size: how a 3D swim is drawn (``aquagait.app.render.picture_look``)."""
+    from aquagait.app.render import VIEWS, WAKES
+
+    parser.add_argument("--view", choices=VIEWS,
+                        help="3D camera (default: the creature's own view, e.g. follow: "
+                        "behind, beside and above; the manta's front-above)")  # fmt: skip
+    parser.add_argument("--wake", choices=WAKES,
+                        help="3D wake: q (vortex surfaces), traces (particle traces) or both "
+                        "(default)")  # fmt: skip
+    parser.add_argument("--size", type=int, nargs=2, metavar=("W", "H"),
+                        help="3D picture size in pixels (default 1280 720)")  # fmt: skip
+
+
 def _cmd_swim(args) -> int:
     from aquagait.app import SetupError, output_directory, prepare_swim
 
@@ -94,6 +108,9 @@ def _cmd_swim(args) -> int:
             resolution=args.resolution,
             cell_size=args.cell_size,
             maneuver=args.maneuver,
+            view=args.view,
+            wake=args.wake,
+            size=args.size,
         )
         label = setup.creature.name + (f"-{args.maneuver}" if args.maneuver else "")
         out = output_directory(args.out or Path("runs") / label)
@@ -160,7 +177,7 @@ def _cmd_export(args) -> int:
     except SetupError as err:
         return _fail("export", err, status=2)
     path = run_export(setup)
-    print(f"wrote {path}")
+    print(f"wrote {path}" + "".join(f" ({note})" for note in setup.notes))
     return 0
 
 
@@ -168,7 +185,8 @@ def _cmd_render(args) -> int:
     from aquagait.app import RenderUnavailable, SetupError, prepare_render, run_render
 
     try:
-        setup = prepare_render(args.run_dir, args.format, args.view, args.frames, args.out)
+        setup = prepare_render(args.run_dir, args.format, args.view, args.frames, args.out,
+                               args.wake, args.size)  # fmt: skip
     except SetupError as err:
         return _fail("render", err, status=2)
     try:
@@ -504,6 +522,7 @@ def build_parser() -> argparse.ArgumentParser:
     swim.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
     swim.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME)")
     swim.add_argument("--no-video", action="store_true", help="skip swim.mp4")
+    _look_flags(swim)
     swim.set_defaults(run=_cmd_swim)
 
     optimize = commands.add_parser(
@@ -620,9 +639,8 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("run_dir", metavar="RUN_DIR", help="a directory written by aquagait swim")
     render.add_argument("--format", choices=("mp4", "gif", "png"), default="mp4",
                         help="png: the frame, or a contact sheet of six frames")  # fmt: skip
-    render.add_argument("--view", choices=("side", "top", "follow"),
-                        help="3D camera (default follow: behind, beside and above)")  # fmt: skip
     render.add_argument("--frames", metavar="A:B", help="frames A to B-1 (default all)")
+    _look_flags(render)
     render.add_argument("--out", metavar="FILE", help="default RUN_DIR/swim[-VIEW].FORMAT")
     render.set_defaults(run=_cmd_render)
 

@@ -50,8 +50,9 @@ def test_a_frame_range_draws_those_frames_as_the_whole_swim_drew_them(eel_run, t
         ({"frames": "8:3"}, "select nothing of this run's 10 frames"),
         ({"frames": "a:b"}, "give A:B"),
         ({"frames": "12:"}, "select nothing"),
-        ({"view": "top"}, "a 2D swim has one view"),
-        ({"view": "under"}, "unknown view 'under'; views: side, top, follow"),
+        ({"view": "top"}, "a 2D swim has one picture: --view, --wake and --size are for 3D"),
+        ({"wake": "q"}, "a 2D swim has one picture"),
+        ({"size": (640, 480)}, "a 2D swim has one picture"),
         ({"format": "avi"}, "unknown format 'avi'; formats: mp4, gif, png"),
     ],
 )
@@ -88,17 +89,35 @@ def fish_run(tmp_path_factory):
 def test_a_3d_run_renders_from_each_view_and_again_the_same(fish_run, tmp_path):
     from aquagait.app import RenderUnavailable
 
+    small = {"size": (320, 240)}
     try:
-        side = run_render(prepare_render(fish_run, "png", view="side", frames="3:4"))
+        side = run_render(prepare_render(fish_run, "png", view="side", frames="3:4", **small))
     except RenderUnavailable as err:
         pytest.skip(f"no headless OpenGL here: {err}")
     assert side == fish_run / "swim-side.png"
     top = imageio.imread(run_render(prepare_render(fish_run, "png", view="top", frames="3:4")))
-    assert top.shape == (480, 640, 3) and (top < 200).any()  # the shaded fish
-    assert not np.array_equal(imageio.imread(side), top)
-    first = run_render(prepare_render(fish_run, out=tmp_path / "a.mp4"))
-    again = run_render(prepare_render(fish_run, out=tmp_path / "b.mp4"))
+    assert top.shape == (720, 1280, 3) and (top < 200).any()  # the shaded fish, by default
+    own = prepare_render(fish_run, "png", frames="3:4", wake="traces", **small)
+    assert own.look == {"view": "follow", "wake": "traces", "width": 320, "height": 240}
+    assert own.path == fish_run / "swim.png"  # the creature's own view has no suffix
+    assert not np.array_equal(imageio.imread(side), imageio.imread(run_render(own)))
+    first = run_render(prepare_render(fish_run, out=tmp_path / "a.mp4", **small))
+    again = run_render(prepare_render(fish_run, out=tmp_path / "b.mp4", **small))
     assert first.read_bytes() == again.read_bytes()  # the same arrays, the same pictures
+
+
+@pytest.mark.parametrize(
+    "kwargs,message",
+    [
+        ({"view": "under"}, "unknown view 'under'; views: side, top, follow, side-above, front"),
+        ({"wake": "dye"}, "unknown wake 'dye'; wakes: both, q, traces"),
+        ({"size": (641, 480)}, r"size \[641, 480\]: give an even width and height of 16"),
+        ({"size": (8, 8)}, "of 16 pixels or more"),
+    ],
+)
+def test_bad_3d_looks_say_what_would_be_right(fish_run, kwargs, message):
+    with pytest.raises(RenderSetupError, match=message):
+        prepare_render(fish_run, **kwargs)
 
 
 def test_a_3d_swim_without_opengl_keeps_its_run_and_says_what_to_install(

@@ -8,7 +8,7 @@ import pytest
 
 import aquagait as ag
 from aquagait.body.mjcf import ModelError
-from aquagait.creatures import CreatureError, UnknownCreatureError, defaults, load, resolve
+from aquagait.creatures import CreatureError, UnknownCreatureError, defaults, load, resolve, schema
 from aquagait.creatures.metadata import parse_metadata
 from aquagait.creatures.schema import KEYS
 from aquagait.sim.follow import CLEARANCE, room
@@ -203,6 +203,7 @@ SHAPES = [
     ({"gaits": {"straight": {"params": [0.1, "a"]}}}, "gaits.straight.params[1]: must be a number"),
     ({"gaits": {"turn left": 3}}, 'gaits["turn left"]: must be a JSON object'),
     ({"gaits": {"straight": {}}}, "gaits.straight: needs 'params'"),
+    ({"view": "below"}, "view: must be one of 'follow', 'side', 'top', 'side-above'"),
 ]
 
 
@@ -309,3 +310,12 @@ def test_a_free_offset_gets_its_bounds_from_the_limits_whatever_the_amplitudes(t
     assert newt.gait.bounds["amplitude"] == (0.0, 0.2)
     fixed = load(write(tmp_path, "fixed", NEWT, {"gait": {"free": ["phase"], "amplitude": 0.1}}))
     assert fixed.gait.bounds == {"phase": (-np.pi, np.pi)}  # nothing for a fixed amplitude
+
+
+def test_the_sidecars_views_are_the_ones_the_pictures_draw(tmp_path):
+    from aquagait.viz.camera import VIEWS
+
+    assert set(VIEWS) == set(schema.VIEWS)
+    assert load(write(tmp_path, "swimmer3", SWIMMER, {"view": "top"})).view == "top"
+    assert load(write(tmp_path, "swimmer3", SWIMMER, {})).view == "follow"
+    assert ag.creatures.get("manta").view == "front-above"

@@ -20,15 +20,16 @@ from aquagait.app.errors import SetupError, output_directory
 from aquagait.app.resolve import run_creature
 from aquagait.body.model import Model
 from aquagait.io.run import Run
+from aquagait.viz.camera import VIEWS as CAMERA_VIEWS
 from aquagait.viz.gl import RenderUnavailable
+from aquagait.viz.volume import WAKES
 
 FORMATS = ("mp4", "gif", "png")
-VIEWS = ("side", "top", "follow")
-DEFAULT_VIEW = "follow"
+VIEWS = tuple(CAMERA_VIEWS)
 
 
-__all__ = ["RenderSetup", "RenderSetupError", "RenderUnavailable", "draw_swim", "prepare_render",
-           "run_render"]  # fmt: skip
+__all__ = ["RenderSetup", "RenderSetupError", "RenderUnavailable", "draw_swim", "picture_look",
+           "prepare_render", "run_render"]  # fmt: skip
 
 
 class RenderSetupError(SetupError):
@@ -41,72 +42,106 @@ class RenderSetup:
 
     Attributes:
         run: the run directory read back.
-        model: the creature (from the run's ``config.json``).
+        model: the creature's model (from the run's ``config.json``).
         frames: the frame indices to draw, increasing.
-        view: 'side', 'top' or 'follow' (3D; 2D has one view).
+        look: how to draw it (``picture_look``; empty for a 2D swim, which has one look).
         path: the picture file.
     """
 
     run: Run
     model: Model
     frames: list[int]
-    view: str
+    look: dict
     path: Path
 
 
 def prepare_render(
-    run_dir, format: str = "mp4", view: str | None = None, frames=None, out=None
-) -> RenderSetup:
+    run_dir, format: str = "mp4", view: str | None = None, frames=None, out=None,
+    wake: str | None = None, size=None,
+) -> RenderSetup:  # fmt: skip
     """Check a render's settings before drawing anything.
 
     Args:
         run_dir: a run directory written by ``aquagait swim`` (or optimize, compare).
         format: 'mp4', 'gif' or 'png' (``aquagait.viz.render_swim``).
-        view: 3D: 'side', 'top' or 'follow' (default); 2D: None.
+        view, wake, size: 3D only (``picture_look``); default the creature's view,
+            both wakes, 1280x720.
         frames: 'A:B' (Python slice, either end optional), a ``range``, or None for all.
-        out: the file to write; default ``RUN_DIR/swim[-VIEW].FORMAT``.
+        out: the file to write; default ``RUN_DIR/swim[-VIEW].FORMAT`` (the view's
+            name when it is not the creature's own).
 
     Raises:
         RenderSetupError: the message says what is wrong and what would be right.
     """
     if format not in FORMATS:
         raise RenderSetupError(f"unknown format {format!r}; formats: {', '.join(FORMATS)}")
-    if view is not None and view not in VIEWS:
-        raise RenderSetupError(f"unknown view {view!r}; views: {', '.join(VIEWS)}")
     try:
         run, creature = run_creature(run_dir)
     except SetupError as err:
         raise RenderSetupError(str(err)) from None
     model = creature.model
-    count = len(run.trajectory.time)
-    chosen = _frames(frames, count)
-    if model.dim == 2 and view not in (None, "side"):
-        raise RenderSetupError(f"a 2D swim has one view; --view {view} is for 3D creatures")
-    view = view or DEFAULT_VIEW
-    suffix = "" if model.dim == 2 or view == DEFAULT_VIEW else f"-{view}"
-    path = Path(out) if out is not None else Path(run_dir) / f"swim{suffix}.{format}"
+    chosen = _frames(frames, len(run.trajectory.time))
+    look = picture_look(model, view, wake, size, creature.view)
+    own = model.dim == 2 or look["view"] == creature.view
+    path = (
+        Path(out)
+        if out is not None
+        else Path(run_dir) / (f"swim{'' if own else '-' + look['view']}.{format}")
+    )
     try:
         output_directory(path.parent)
     except SetupError as err:
         raise RenderSetupError(str(err)) from None
-    return RenderSetup(run, model, chosen, view, path)
+    return RenderSetup(run, model, chosen, look if model.dim == 3 else {}, path)
+
+
+def picture_look(model: Model, view=None, wake=None, size=None, default_view="follow") -> dict:
+    """How the jobs draw a swim: for a 3D creature the ``view`` (default ``default_view``,
+    the creature's own), the ``wake`` ('both', 'q' vortex surfaces, 'traces') and the
+    picture's ``size`` (width, height) in pixels (default the renderer's, 1280x720); a 2D
+    swim has one look, ``{"view": "side"}`` in name only.
+
+    Raises:
+        RenderSetupError: an unknown view or wake, a bad size, or 3D options for a 2D swim.
+    """
+    if model.dim == 2:
+        if view not in (None, "side") or wake is not None or size is not None:
+            raise RenderSetupError(
+                "a 2D swim has one picture: --view, --wake and --size are for 3D creatures"
+            )
+        return {"view": "side"}
+    view = view or default_view
+    if view not in VIEWS:
+        raise RenderSetupError(f"unknown view {view!r}; views: {', '.join(VIEWS)}")
+    if wake is not None and wake not in WAKES:
+        raise RenderSetupError(f"unknown wake {wake!r}; wakes: {', '.join(WAKES)}")
+    look = {"view": view} | ({"wake": wake} if wake is not None else {})
+    if size is not None:
+        width, height = (int(v) for v in size)
+        if width % 2 or height % 2 or min(width, height) < 16 or tuple(size) != (width, height):
+            raise RenderSetupError(
+                f"size {list(size)}: give an even width and height of 16 pixels or more"
+            )
+        look |= {"width": width, "height": height}
+    return look
 
 
 def run_render(setup: RenderSetup, progress=None) -> Path:
     """Draw the pictures and write the file; returns its path (``draw_swim``)."""
-    return draw_swim(setup.run.trajectory, setup.model, setup.path, setup.frames, setup.view,
-                     progress)  # fmt: skip
+    return draw_swim(setup.run.trajectory, setup.model, setup.path, setup.frames, progress,
+                     **setup.look)  # fmt: skip
 
 
-def draw_swim(trajectory, model: Model, path, frames=None, view=DEFAULT_VIEW, progress=None):
-    """``aquagait.viz.render_swim`` for the jobs: 3D picks the ``view``; returns the path.
+def draw_swim(trajectory, model: Model, path, frames=None, progress=None, **look):
+    """``aquagait.viz.render_swim`` for the jobs, with a look from ``picture_look``; returns
+    the path.
 
     Raises:
         aquagait.viz.gl.RenderUnavailable: a 3D swim and no OpenGL (what to install).
     """
     from aquagait.viz import render_swim
 
-    look = {"view": view} if model.dim == 3 else {}
+    look = look if model.dim == 3 else {}
     return render_swim(trajectory, model, path, frames, progress=progress, **look)
 
 

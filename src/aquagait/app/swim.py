@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from aquagait.app.errors import SetupError
-from aquagait.app.render import draw_swim
+from aquagait.app.render import draw_swim, picture_look
 from aquagait.app.resolve import creature_key, find_creature, find_gait
 from aquagait.creatures import Creature, CreatureError
 from aquagait.io.gait import write_gait
@@ -61,6 +61,7 @@ class SwimSetup:
         dt: largest time step [s], or None for ``rollout``'s default.
         fps: frames per second recorded.
         maneuver: the manoeuvre the gait swims (its parameterization: ``spec``).
+        look: how its video is drawn (``aquagait.app.render.picture_look``).
     """
 
     creature: Creature
@@ -71,6 +72,7 @@ class SwimSetup:
     dt: float | None = None
     fps: float = FRAMES_PER_SECOND
     maneuver: str = "straight"
+    look: dict = field(default_factory=dict)
 
     @property
     def spec(self):
@@ -110,6 +112,9 @@ def prepare_swim(
     dt: float | None = None,
     fps: float = FRAMES_PER_SECOND,
     maneuver: str | None = None,
+    view: str | None = None,
+    wake: str | None = None,
+    size=None,
 ) -> SwimSetup:
     """Resolve a swim's settings: creature, gait, scene.
 
@@ -127,6 +132,8 @@ def prepare_swim(
         fps: frames per second recorded.
         maneuver: swim this learned manoeuvre's shipped gait (``turn-left``, ...)
             instead of the default one; not with ``gait``.
+        view, wake, size: how a 3D swim's video is drawn (``picture_look``): default
+            the creature's view, both wakes, 1280x720.
 
     Raises:
         SwimSetupError: the message says which setting is wrong and what would be right.
@@ -164,7 +171,12 @@ def prepare_swim(
         scene = make_scene(creature, resolution=resolution, cell_size=cell_size, fluid=fluid)
     except ValueError as err:
         raise SwimSetupError(str(err)) from None
-    return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver)
+    try:
+        look = picture_look(creature.model, view, wake, size, creature.view)
+    except SetupError as err:
+        raise SwimSetupError(str(err)) from None
+    return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver,
+                     look)  # fmt: skip
 
 
 def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
@@ -274,7 +286,9 @@ def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progre
     out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
     write_gait(out / "gait.json", creature, run.setup.params, run.setup.maneuver)
     if video:
-        draw_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress)
+        draw_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress,
+                  **(run.setup.look or picture_look(creature.model, None, None, None,
+                                                    creature.view)))  # fmt: skip
     return out
 
 

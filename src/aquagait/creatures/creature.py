@@ -82,6 +82,7 @@ class Creature:
         notes: the defaults that were filled in, one line each.
         as_written: its thin parts are kept as its MJCF writes them, not
             thickened for the fluid (``aquagait.creatures.registry``, ``--no-thicken``).
+        view: the view its 3D pictures take by default (``schema.VIEWS``).
     """
 
     name: str
@@ -100,6 +101,7 @@ class Creature:
     gaits: Mapping[str, ShippedGait] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     as_written: bool = False
+    view: str = "follow"
 
     def __post_init__(self):
         object.__setattr__(self, "default_gait", np.asarray(self.default_gait, dtype=float))

@@ -26,6 +26,7 @@ tail hinges, mirrored legs optimized after the tail):
       "energy_weight": 1.0,
       "forward": [1, 0, 0],
       "planar_fluid": "2d",
+      "view": "side-above",
       "gaits": {
         "straight": {
           "params": {
@@ -91,6 +92,10 @@ The entries (units: rad, s, m, J; the paper's gait is
   by the plane of motion (``aquagait.body.flatten``); in 3D its shapes are as
   written and its root is held to its plane (no rolling, pitching or rising):
   the better physics for 3D shapes, at a 3D fluid's cost.
+- ``view``: the view its 3D pictures take by default, one of
+  ``schema.VIEWS``: ``"follow"`` (default: three-quarters from behind and
+  above), ``"side"``, ``"top"``, ``"side-above"``, ``"front-above"``; the one
+  that shows its stroke (a ray's wings from in front and above).
 - ``gaits``: shipped gaits by name; ``straight`` is the creature's default
   gait; ``turn-left``, ``turn-right``, ``pitch-up`` and ``pitch-down`` are its
   learned manoeuvres (``aquagait optimize --maneuver``, followed by
@@ -162,6 +167,7 @@ class Metadata:
         energy_weight: [1/J], or None.
         forward: (3,) the direction the head points in the MJCF's frame, or None.
         planar_fluid: "2d" or "3d", where a planar model swims, or None ("2d").
+        view: the 3D pictures' default view, or None ("follow").
         gaits: shipped gaits by name: ``{"params": dict | list, "provenance": dict}``.
     """
 
@@ -174,6 +180,7 @@ class Metadata:
     energy_weight: float | None = None
     forward: tuple[float, float, float] | None = None
     planar_fluid: str | None = None
+    view: str | None = None
     gaits: Mapping = field(default_factory=dict)
 
 
@@ -246,6 +253,7 @@ def build_creature(model: Model, meta: Metadata, name: str) -> Creature:
         metadata_path=meta.path,
         gaits=gaits,
         notes=tuple(notes),
+        view=meta.view or "follow",
     )
 
 

@@ -15,6 +15,10 @@ import math
 from aquagait.body.model import PLANAR_FLUIDS
 from aquagait.control.gait import KINDS
 
+VIEWS = ("follow", "side", "top", "side-above", "front-above")
+"""The 3D pictures' views by name (``aquagait.viz.camera.VIEWS`` draws each); a side-car's
+``view`` is one of them."""
+
 KEYS = {
     "": (
         "description",
@@ -25,6 +29,7 @@ KEYS = {
         "energy_weight",
         "forward",
         "planar_fluid",
+        "view",
         "gaits",
     ),
     "gait": (
@@ -265,7 +270,7 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
     Returns:
         ``{"description": str, "gait": {...}, "pd": {...}, "grid": {...},
         "energy_bound": float, "energy_weight": float, "forward": (x, y, z),
-        "planar_fluid": "2d" | "3d", "gaits": {...}}``
+        "planar_fluid": "2d" | "3d", "view": str, "gaits": {...}}``
         with only the entries given
         (lists of names as tuples, bounds as (lo, hi) pairs), and the list of
         problems (empty: the shapes and types are right).
@@ -293,6 +298,12 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
         else:
             check.add("planar_fluid", f"must be one of {', '.join(map(repr, PLANAR_FLUIDS))}, "
                       f"got {value!r}")  # fmt: skip
+    if "view" in top:
+        value = top["view"]
+        if value in VIEWS:
+            out["view"] = value
+        else:
+            check.add("view", f"must be one of {', '.join(map(repr, VIEWS))}, got {value!r}")
     out["gaits"] = shipped(check, top.get("gaits", {}))
     return out, check.problems
 
