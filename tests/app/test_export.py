@@ -72,3 +72,31 @@ def test_a_writer_that_fails_leaves_the_old_file_as_it_was(eel_run, tmp_path, mo
     with pytest.raises(OSError, match="disk full"):
         run_export(setup)
     assert out.read_bytes() == b"old" and [p.name for p in tmp_path.iterdir()] == ["swim.glb"]
+
+
+def test_the_formats_extension_is_added_when_missing_and_said(eel_run, tmp_path, capsys):
+    """USD tools and Blender open a file by its extension: ``--out swim`` writes swim.usd
+    (here the glTF and HTML, which need no extra library), and says so."""
+    for fmt, suffix in (("gltf", ".glb"), ("html", ".html")):
+        out = tmp_path / f"swim-{fmt}"
+        assert main(["export", str(eel_run), "--format", fmt, "--out", str(out),
+                     "--traces", "0"]) == 0  # fmt: skip
+        written = out.with_name(out.name + suffix)
+        assert written.is_file() and not out.exists()
+        assert f"wrote {written} (added the {suffix} extension" in capsys.readouterr().out
+    setup = prepare_export(eel_run, "usd", out=tmp_path / "my.swim") if _has_usd() else None
+    if setup is not None:
+        assert setup.path.name == "my.swim.usd"
+    with pytest.raises(ExportSetupError, match=r"a gltf export is a \.glb file, not \.html"):
+        prepare_export(eel_run, "gltf", out=tmp_path / "swim.html")
+    assert prepare_export(eel_run, "vtk", out=tmp_path / "fluid").path.name == "fluid"
+
+
+def _has_usd() -> bool:
+    from aquagait.io.export import ExportUnavailable, check_format
+
+    try:
+        check_format("usd")
+    except ExportUnavailable:
+        return False
+    return True

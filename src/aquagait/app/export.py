@@ -33,15 +33,21 @@ class ExportSetupError(SetupError):
     """An export cannot start: no run directory, a damaged one, a bad format or path."""
 
 
+SUFFIXES = {"usd": (".usd",), "gltf": (".glb",), "html": (".html", ".htm"), "vtk": ()}
+"""The file suffixes each format's readers open it by (vtk writes a folder: none)."""
+
+
 @dataclass(frozen=True, eq=False)
 class ExportSetup:
-    """A checked export: the run, its creature, the format, the file (or folder) to write."""
+    """A checked export: the run, its creature, the format, the file (or folder) to write,
+    and ``notes`` on what was changed on the way (an extension added)."""
 
     run: Run
     creature: Creature
     format: str
     path: Path
     traces: int = TRACES
+    notes: tuple[str, ...] = ()
 
 
 def prepare_export(run_dir, format: str, out=None, traces: int = TRACES) -> ExportSetup:
@@ -51,7 +57,9 @@ def prepare_export(run_dir, format: str, out=None, traces: int = TRACES) -> Expo
         run_dir: a run directory written by ``aquagait swim`` (or optimize, compare).
         format: 'usd', 'gltf', 'vtk' or 'html'.
         out: the file (a folder for vtk) to write; default ``RUN_DIR/`` and
-            the format's name (``aquagait.io.export.FORMATS``).
+            the format's name (``aquagait.io.export.FORMATS``). Without the
+            format's extension (``SUFFIXES``), it is added (and said in ``notes``):
+            USD tools and Blender open a file by its extension.
         traces: particle traces exported (0: none).
 
     Raises:
@@ -62,9 +70,19 @@ def prepare_export(run_dir, format: str, out=None, traces: int = TRACES) -> Expo
         raise ExportSetupError(f"unknown format {format!r}; formats: {', '.join(FORMATS)}")
     if not (isinstance(traces, int) and traces >= 0):
         raise ExportSetupError(f"traces must be a whole number >= 0, got {traces!r}")
+    notes = ()
+    path = Path(out) if out is not None else Path(run_dir) / FORMATS[format]
+    suffixes = SUFFIXES[format]
+    if suffixes and path.suffix.lower() not in suffixes:
+        if path.suffix.lower() in {s for known in SUFFIXES.values() for s in known}:
+            raise ExportSetupError(
+                f"{path}: a {format} export is a {suffixes[0]} file, not {path.suffix}; "
+                f"give --out {path.with_suffix(suffixes[0])}"
+            )
+        path = path.with_name(path.name + suffixes[0])
+        notes = (f"added the {suffixes[0]} extension, by which {format} readers open it",)
     try:
         run, creature = run_creature(run_dir)
-        path = Path(out) if out is not None else Path(run_dir) / FORMATS[format]
         output_directory(path.parent)
     except SetupError as err:
         raise ExportSetupError(str(err)) from None
@@ -75,7 +93,7 @@ def prepare_export(run_dir, format: str, out=None, traces: int = TRACES) -> Expo
     if path.is_dir() != (format == "vtk") and path.exists():
         kind = "a folder" if format == "vtk" else "a file"
         raise ExportSetupError(f"{path} exists and is not {kind}: {format} writes {kind}")
-    return ExportSetup(run, creature, format, path, traces)
+    return ExportSetup(run, creature, format, path, traces, notes)
 
 
 def run_export(setup: ExportSetup) -> Path:
