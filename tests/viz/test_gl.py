@@ -14,7 +14,13 @@ from aquagait.body.dynamics import Dynamics  # noqa: E402
 from aquagait.body.geometry import geom_points  # noqa: E402
 from aquagait.body.meshes import link_meshes  # noqa: E402
 from aquagait.viz.camera import Camera, project, view_camera  # noqa: E402
-from aquagait.viz.gl import Renderer, RenderUnavailable, egl_context, trace_segments  # noqa: E402
+from aquagait.viz.gl import (  # noqa: E402
+    Renderer,
+    RenderUnavailable,
+    SurfaceMesh,
+    egl_context,
+    trace_segments,
+)
 
 WIDTH, HEIGHT = 160, 120
 BLACK = (0.0, 0.0, 0.0)  # no lit surface is black: every geom here has a colour
@@ -161,6 +167,34 @@ def test_a_trace_behind_the_body_is_hidden_and_one_in_front_is_not(ball):
             changed = (image != plain).any(-1)
             assert changed[~disc].any()  # drawn where it passes beside the ball
             assert changed[disc].any() != hidden
+
+
+def squares(*ys, size=0.1, rgba=(0.0, 0.0, 1.0, 0.5)) -> SurfaceMesh:
+    """One surface of squares in the planes at ``ys``, facing the 'side' camera."""
+    corners = np.array([[-1, 0, -1], [1, 0, -1], [1, 0, 1], [-1, 0, 1]]) * [size, 0, size]
+    vertices = np.concatenate([corners + [0, y, 0] for y in ys])
+    triangles = np.concatenate([np.array([[0, 1, 2], [0, 2, 3]]) + 4 * k for k in range(len(ys))])
+    normals = np.tile([0.0, -1.0, 0.0], (len(vertices), 1))
+    return SurfaceMesh(vertices, normals, np.tile(rgba, (len(vertices), 1)), triangles)
+
+
+def test_see_through_surfaces_blend_their_nearest_layer_and_the_body_shows_through(ball):
+    camera = view_camera("side", [0, 0, 0], [0.3, 0.3, 0.3], WIDTH / HEIGHT)
+    with renderer(ball, background=(1.0, 1.0, 1.0)) as r:
+        plain = r.draw(*rest_pose(ball), camera).astype(int)
+        one = r.draw(*rest_pose(ball), camera, surfaces=(squares(-0.15),)).astype(int)
+        two = [r.draw(*rest_pose(ball), camera, surfaces=(squares(*ys),)).astype(int)
+               for ys in ((-0.15, -0.1), (-0.1, -0.15))]  # fmt: skip
+        behind = r.draw(*rest_pose(ball), camera, surfaces=(squares(0.1),)).astype(int)
+    corner = (slice(5, 15), slice(5, 15))  # outside the squares: background
+    centre = (HEIGHT // 2, WIDTH // 2)  # the ball, through the square
+    edge = (HEIGHT // 2, WIDTH // 2 + 25)  # beside the ball, inside the square
+    assert np.array_equal(one[corner], plain[corner])
+    assert one[edge][2] > one[edge][0] + 50  # white turned blue-ish
+    for image in two:  # a second layer behind the first adds nothing, in either order
+        assert np.abs(image - one).max() <= 1
+    assert 0 < np.abs(one[centre] - plain[centre]).max() and one[centre][0] > 60  # red through
+    assert np.array_equal(behind[centre], plain[centre])  # hidden by the ball
 
 
 def test_trace_segments_skip_every_segment_with_a_missing_end():

@@ -245,7 +245,8 @@ class Renderer:
                 hidden by the body; opaque unless an alpha is given.
             trace_colours: (N, L, 3) RGB in [0, 1] at each trace position.
             surfaces: ``SurfaceMesh`` items: triangles in world coordinates with a
-                colour and opacity per vertex (the wake's vortices).
+                colour and opacity per vertex (the wake's vortices), their nearest
+                layer blended in.
         Returns:
             (height, width, 3) uint8 RGB, top row first.
         """
@@ -318,13 +319,19 @@ class Renderer:
         )
         self._ctx.enable(moderngl.DEPTH_TEST | moderngl.BLEND)
         self._ctx.disable(moderngl.CULL_FACE)
-        self._ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-        self._ctx.depth_mask = False  # hidden by the body, never by each other
         self._surface["view_projection"].write(view_projection)
         key, fill = _lights(camera)
         self._surface["key"].value, self._surface["fill"].value = key, fill
-        vao.render()
+        # Only the nearest layer is blended in: a pass that writes depth and no colour,
+        # then colour where the depth is the nearest. Blending every layer instead darkens
+        # each fold seen edge-on, and a marching-cubes surface has a fold at every cell.
         self._ctx.depth_mask = True
+        self._ctx.blend_func = moderngl.ZERO, moderngl.ONE
+        vao.render()
+        self._ctx.depth_func = "<="
+        self._ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        vao.render()
+        self._ctx.depth_func = "<"
         for thing in (vao, indices, vertices):
             thing.release()
 
@@ -348,7 +355,8 @@ class Renderer:
 
 @dataclass(frozen=True)
 class SurfaceMesh:
-    """Triangles to draw see-through over the body (the wake's vortices).
+    """Triangles to draw see-through over the body (the wake's vortices): the nearest layer
+    is blended over what lies behind it, and hides the traces and lines behind it.
 
     Attributes:
         vertices: (n, 3) world positions [m].

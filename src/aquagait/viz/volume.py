@@ -10,8 +10,10 @@ software renderer, no screen):
   - Vortex surfaces: the isosurface ``Q = q_fraction * peak`` of the
     Q-criterion (``aquagait.sim.vortices``: the fluid rotating more than it is
     strained; the peak, a high percentile over the whole swim, so one threshold
-    holds for every frame), by marching cubes (scikit-image), see-through,
-    each vertex coloured by the direction of the vorticity there along the
+    holds for every frame), by marching cubes (scikit-image) on Q interpolated
+    onto a lattice ``SURFACE_REFINE`` times finer (a vortex three cells across
+    comes out round, not ribbed), see-through (the nearest layer), each vertex
+    coloured by the direction of the vorticity there along the
     spanwise axis (``spin_axis``): red where it turns counter-clockwise seen
     from the axis' tip, blue clockwise, grey across.
   - Particle traces of the last 15 frames (``aquagait.sim.particles.wake``),
@@ -43,6 +45,7 @@ from dataclasses import dataclass, replace
 from itertools import product
 
 import numpy as np
+from scipy.ndimage import zoom
 
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import body_boxes
@@ -62,9 +65,13 @@ BODY_SHARE = 0.4
 WAKES = ("both", "q", "traces")
 SPIN = {1: (0.75, 0.08, 0.05), 0: (0.5, 0.5, 0.52), -1: (0.05, 0.22, 0.75)}
 """Colours of the spin scale: counter-clockwise (+1), across (0), clockwise (-1)."""
-SURFACE_ALPHA = 0.4
-LEGEND_SIZE = (3.4, 0.95)
-"""The legend's size [inches]."""
+SURFACE_ALPHA = 0.55
+SURFACE_REFINE = 2
+"""Q is interpolated (cubic splines) onto a lattice this many times finer before marching
+cubes: on the coarse lattice a vortex tube three cells across comes out ribbed, a kink at
+every cell."""
+LEGEND_WIDTH = 3.6
+"""The legend's width [inches]; its height grows with its lines."""
 LEGEND_DPI = 100
 LEGEND_SHARE = 0.5
 """The most of the picture's width the legend may cover; narrower pictures go without."""
@@ -168,13 +175,13 @@ def _pictures(trajectory: Trajectory, model: Model, frames, look: Look3D):
         _need_marching_cubes()
         level = q_level(fluid, look.q_fraction)
     route = () if look.route is None else ((look.route, ROUTE),)
-    floor = _floor(model, trajectory) if look.ground else None
+    floor = floor_height(model, trajectory.qpos) if look.ground else None
     legend = _legend(look, axis, scale, level) if look.legend and fluid is not None else None
     with Renderer(link_meshes(model), look.width, look.height, line_width=1.5) as renderer:
         for f in frames:
             lines, alpha, spin = traces.at(f) if traces is not None else (None, None, None)
             surfaces = () if level is None else vortex_surfaces(fluid, f, level, axis)
-            grid = () if floor is None else _ground(aims[f], floor, model.body_length)
+            grid = () if floor is None else ground_grid(aims[f], floor, model.body_length)
             pos, rot = dynamics.link_poses(trajectory.qpos[f])
             picture = renderer.draw(
                 pos, rot, cameras[f], traces=lines, trace_alpha=alpha,
@@ -213,13 +220,27 @@ def vortex_surfaces(fluid, frame: int, level: float, axis: int) -> tuple:
     q = frame_q(fluid, frame)
     if not np.isfinite(level) or q.max() <= level:
         return ()
-    vertices, triangles, normals, _ = marching_cubes(q, level)
+    low, high = _around(q > level, margin=2)
+    fine = zoom(q[tuple(slice(a, b) for a, b in zip(low, high, strict=True))], SURFACE_REFINE,
+                order=3, mode="nearest", grid_mode=False)  # fmt: skip
+    vertices, triangles, normals, _ = marching_cubes(fine, level)
+    steps = (high - low - 1) / (np.array(fine.shape) - 1)  # fine points to coarse cells
     origin, h = fluid.origin[frame], fluid.cell_size
-    world = origin + (vertices + 0.5) * h  # lattice indices are cell centres
+    world = origin + (low + vertices * steps + 0.5) * h  # lattice indices are cell centres
     omega = sample(vorticity(fluid, frame), origin, h, world)  # (3, n)
     direction = omega[axis] / np.maximum(np.linalg.norm(omega, axis=0), 1e-12)
-    colours = np.hstack([spin_colours(direction), np.full((len(world), 1), SURFACE_ALPHA)])
+    spin = np.sign(direction) * np.sqrt(np.abs(direction))  # a vortex leg tilted 45 deg: 84 %
+    colours = np.hstack([spin_colours(spin), np.full((len(world), 1), SURFACE_ALPHA)])
     return (SurfaceMesh(world, normals, colours, triangles),)
+
+
+def _around(inside: np.ndarray, margin: int) -> tuple[np.ndarray, np.ndarray]:
+    """The lattice box (low, high: index ranges) holding the True cells, ``margin`` cells
+    larger on every side where the lattice allows."""
+    where = np.argwhere(inside)
+    low = np.maximum(where.min(axis=0) - margin, 0)
+    high = np.minimum(where.max(axis=0) + margin + 1, inside.shape)
+    return low, high
 
 
 def _need_marching_cubes() -> None:
@@ -283,16 +304,19 @@ def _smoothed(values: np.ndarray, half: int) -> np.ndarray:
     return np.stack([np.convolve(padded[:, a], kernel, mode="valid") for a in range(3)], 1)
 
 
-def _floor(model: Model, trajectory: Trajectory) -> float:
-    """The ground grid's height [m]: half a body length below the lowest the body reaches."""
-    boxes = body_boxes(model, trajectory.qpos)
+def floor_height(model: Model, qpos) -> float:
+    """The ground grid's height [m]: half a body length below the lowest the body reaches
+    over the poses ``qpos`` (F, nq)."""
+    boxes = body_boxes(model, qpos)
     return float(boxes[:, 0, 2].min() - 0.5 * model.body_length)
 
 
-def _ground(aim, floor: float, length: float) -> tuple:
-    """Lines of the ground grid around ``aim``, fixed in the world (multiples of the spacing)."""
+def ground_grid(aim, floor: float, length: float, span: float = GROUND_SPAN) -> tuple:
+    """``(points, rgba)`` lines of the faint ground grid at height ``floor`` [m] around
+    ``aim``, ``span`` body lengths ``length`` [m] each way, fixed in the world (at multiples
+    of the spacing, so it stays put as the camera moves)."""
     spacing = GROUND_SPACING * length
-    reach = GROUND_SPAN * length
+    reach = span * length
     lines = []
     for axis in (0, 1):
         other = 1 - axis
@@ -322,7 +346,7 @@ def _legend(look: Look3D, axis: int, scale: float, level: float | None) -> np.nd
 
     It is drawn at ``LEGEND_DPI`` up to 1280 pixels wide and grows with wider pictures."""
     dpi = LEGEND_DPI * max(1.0, look.width / 1280)
-    if LEGEND_SIZE[0] * dpi > LEGEND_SHARE * look.width:
+    if LEGEND_WIDTH * dpi > LEGEND_SHARE * look.width:
         return None
     try:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -331,19 +355,30 @@ def _legend(look: Look3D, axis: int, scale: float, level: float | None) -> np.nd
     except ImportError:
         return None
     name = "xyz"[axis]
-    figure = Figure(figsize=LEGEND_SIZE, dpi=dpi)
-    figure.patch.set_alpha(0.0)
+    traces = look.wake != "q"
+    lines = [f"colour: the sign of \u03c9{name}, red turning counter-clockwise seen from +{name}"]
+    if look.wake != "traces" and level is not None and np.isfinite(level):
+        lines.insert(0, f"vortex surfaces: Q = {look.q_fraction:.0%} of the swim's peak "
+                        f"({level:.3g} 1/s\u00b2)")  # fmt: skip
+    if traces:
+        lines.insert(0, f"traces: spanwise vorticity \u03c9{name} [1/s]")
+    line, bar_at, bar_height = 0.14, 0.22, 0.15  # [inches]
+    height = bar_at + bar_height + 0.06 + line * len(lines)
+    figure = Figure(figsize=(LEGEND_WIDTH, height), dpi=dpi)
+    figure.patch.set_facecolor((1.0, 1.0, 1.0, 0.75))  # readable over the wake
     canvas = FigureCanvasAgg(figure)
-    bar = figure.add_axes((0.05, 0.55, 0.9, 0.17))
+    bar = figure.add_axes((0.04, bar_at / height, 0.92, bar_height / height))
     ramp = np.linspace(-1, 1, 256)
     bar.imshow(ramp[None], aspect="auto", cmap=ListedColormap(spin_colours(ramp)),
                extent=(-scale, scale, 0, 1))  # fmt: skip
     bar.set_yticks([])
     bar.tick_params(labelsize=7, length=2, pad=1)
-    lines = [f"spanwise vorticity \u03c9{name} [1/s]: red counter-clockwise"]
-    if look.wake != "traces" and level is not None and np.isfinite(level):
-        lines.append(f"surfaces: Q = {look.q_fraction:.0%} of peak ({level:.3g} 1/s\u00b2)")
-    figure.text(0.05, 0.97, "\n".join(lines), fontsize=7, va="top", color=(0.15, 0.15, 0.15))
+    if not traces:  # the surfaces' colour is a direction, not a rate
+        bar.set_xticks([])
+        for x, words, side in ((0, "clockwise", "left"), (1, "counter-clockwise", "right")):
+            bar.text(x, -0.15, words, transform=bar.transAxes, fontsize=7, ha=side, va="top")
+    figure.text(0.04, 1 - 0.04 / height, "\n".join(lines), fontsize=7, va="top",
+                linespacing=1.35, color=(0.15, 0.15, 0.15))  # fmt: skip
     canvas.draw()
     return np.asarray(canvas.buffer_rgba()).copy()
 
