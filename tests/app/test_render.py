@@ -98,7 +98,7 @@ def test_a_3d_run_renders_from_each_view_and_again_the_same(fish_run, tmp_path):
     top = imageio.imread(run_render(prepare_render(fish_run, "png", view="top", frames="3:4")))
     assert top.shape == (720, 1280, 3) and (top < 200).any()  # the shaded fish, by default
     own = prepare_render(fish_run, "png", frames="3:4", wake="traces", **small)
-    assert own.look == {"view": "follow", "wake": "traces", "width": 320, "height": 240}
+    assert own.look == {"view": "side-above", "wake": "traces", "width": 320, "height": 240}
     assert own.path == fish_run / "swim.png"  # the creature's own view has no suffix
     assert not np.array_equal(imageio.imread(side), imageio.imread(run_render(own)))
     first = run_render(prepare_render(fish_run, out=tmp_path / "a.mp4", **small))
