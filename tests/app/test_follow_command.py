@@ -127,3 +127,19 @@ def test_bad_settings_are_refused(learned, options, message):
 def test_the_command_line_fails_with_status_2_and_the_reason(tmp_path, capsys):
     assert main(["follow", "accordion2d", "--path", "circle", "--out", str(tmp_path / "x")]) == 2
     assert "has not learned" in capsys.readouterr().err
+
+
+def test_follow_snapshots_are_whole_cycles_apart_and_a_slow_swimmer_is_not_drawn_over_itself():
+    from types import SimpleNamespace
+
+    from aquagait.app.follow import SNAPSHOT_SPACING, SNAPSHOTS, snapshot_every
+
+    def run(cycles, body_lengths):
+        return SimpleNamespace(setup=SimpleNamespace(cycles=cycles, period=0.5),
+                               metrics={"path_progress_body_lengths": body_lengths},
+                               trajectory=SimpleNamespace(fps=30))  # fmt: skip
+
+    assert snapshot_every(run(12, 12 * SNAPSHOT_SPACING)) == 15  # a cycle apart
+    assert snapshot_every(run(3 * SNAPSHOTS, 100.0)) == 3 * 15  # no more than SNAPSHOTS
+    assert snapshot_every(run(20, 2.8)) == 6 * 15  # 0.14 BL a cycle: 0.84 BL apart
+    assert snapshot_every(run(4, 0.0)) == 4 * 15  # nowhere: the first and last frames

@@ -29,6 +29,7 @@ from pathlib import Path as FilePath
 import numpy as np
 
 from aquagait.app.errors import SetupError
+from aquagait.app.render import picture_look
 from aquagait.app.resolve import find_creature
 from aquagait.app.swim import run_config
 from aquagait.creatures import Creature
@@ -54,6 +55,8 @@ DEAD_BAND = 0.1
 
 SNAPSHOTS = 12
 """At most this many snapshots of the creature (whole cycles apart) in ``follow.png``."""
+SNAPSHOT_SPACING = 0.75
+"""Body lengths the creature moves, on average, between two snapshots in ``follow.png``."""
 
 NEEDED = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
 """Per axis across the root frame (y, z), the manoeuvres that correct it."""
@@ -250,7 +253,7 @@ def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> Fil
     """Write the run directory: config.json, trajectory.npz, metrics.json, path.csv (the path),
     maneuvers.csv (a row per cycle), path_distance.csv (a row per frame); with ``video`` also
     swim.mp4 with the path drawn and follow.png, the creature's snapshots along the path
-    (every cycle, or every few for more than ``SNAPSHOTS`` cycles).
+    (``snapshot_every``).
 
     Raises:
         aquagait.viz.gl.RenderUnavailable: a 3D picture and no OpenGL; the run's
@@ -273,13 +276,22 @@ def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> Fil
     if video:
         from aquagait.viz.follow import draw_follow, render_follow
 
+        look = picture_look(creature.model, default_view=creature.view) if creature.dim == 3 else {}
         render_follow(run.trajectory, creature.model, run.setup.path.points, out / "swim.mp4",
-                      progress=progress)  # fmt: skip
-        cycle = int(round(run.setup.period * run.trajectory.fps))
-        every = max(1, cycle * int(np.ceil(run.setup.cycles / SNAPSHOTS)))  # whole cycles
+                      progress=progress, **look)  # fmt: skip
         draw_follow(run.trajectory, creature.model, run.setup.path.points, out / "follow.png",
-                    every=every)  # fmt: skip
+                    every=snapshot_every(run))  # fmt: skip
     return out
+
+
+def snapshot_every(run: FollowRun) -> int:
+    """Frames between ``follow.png``'s snapshots: whole cycles, enough that the creature has
+    moved ``SNAPSHOT_SPACING`` body lengths on average (a slow swimmer is not drawn over
+    itself), and no more than ``SNAPSHOTS`` snapshots."""
+    setup = run.setup
+    per_cycle = max(run.metrics["path_progress_body_lengths"] / setup.cycles, 1e-9)
+    cycles = max(np.ceil(setup.cycles / SNAPSHOTS), np.ceil(SNAPSHOT_SPACING / per_cycle))
+    return max(1, int(round(setup.period * run.trajectory.fps)) * int(min(cycles, setup.cycles)))
 
 
 def follow_summary(run: FollowRun, out=None) -> str:

@@ -7,8 +7,8 @@
 drawn in red; ``draw_follow`` is one still picture of the whole run: the
 path in red and the creature drawn every ``every`` frames along its way,
 fainter the earlier it is (2D: matplotlib outlines in metres; 3D: the
-shaded creature from one fixed camera, from the side when the path climbs
-more than it turns, else from above).
+shaded creature from one fixed camera over a faint ground grid, from the side
+and above when the path climbs more than it turns, else from above).
 """
 
 from __future__ import annotations
@@ -23,8 +23,10 @@ from aquagait.body.model import Model
 from aquagait.sim import Trajectory
 from aquagait.viz.style import ROUTE
 from aquagait.viz.swim import render_swim
+from aquagait.viz.volume import GROUND_SPAN, floor_height, ground_grid
 
-SIZE = (800, 600)  # the still's width and height [pixels]
+SIZE = (800, 600)  # the 2D still's width and height [pixels]
+SIZE_3D = (1280, 720)
 
 
 def render_follow(trajectory: Trajectory, model: Model, route, path, progress=None, **look) -> Path:
@@ -102,11 +104,14 @@ def _still_3d(trajectory, model, route, frames) -> np.ndarray:
     low = np.minimum(boxes[:, 0].min(0), route.min(0))
     high = np.maximum(boxes[:, 1].max(0), route.max(0))
     spread = high - low
-    view = "side" if spread[2] >= spread[1] else "top"
-    width, height = SIZE
-    camera = view_camera(view, (low + high) / 2, spread, width / height, fill=0.9)
-    with Renderer(link_meshes(model), width, height) as renderer:
+    view = "side-above" if spread[2] >= spread[1] else "top"
+    width, height = SIZE_3D
+    centre = (low + high) / 2
+    camera = view_camera(view, centre, spread, width / height, fill=0.9)
+    floor = floor_height(model, trajectory.qpos[frames])
+    reach = max(GROUND_SPAN, spread.max() / model.body_length)  # the grid reaches the path's ends
+    with Renderer(link_meshes(model), width, height, line_width=1.5) as renderer:
         return renderer.draw(
             np.stack([p for p, _ in poses]), np.stack([r for _, r in poses]), camera,
-            lines=((route, ROUTE),),
+            lines=((route, ROUTE), *ground_grid(centre, floor, model.body_length, reach)),
         )  # fmt: skip
