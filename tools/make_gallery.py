@@ -68,7 +68,9 @@ def library_sheet(names, path: Path) -> Path:
         offset = (np.array(TILE) - picture.size) // 2
         sheet.paste(picture, tuple(corner + offset))
         label = ImageDraw.Draw(sheet)
-        label.text(tuple(corner + [14, 10]), name, fill=(20, 20, 20), font=font)
+        at = tuple(corner + [14, 10])
+        label.rectangle(label.textbbox(at, name, font=font), fill="white")  # over the picture
+        label.text(at, name, fill=(20, 20, 20), font=font)
     sheet.save(path)
     return path
 
