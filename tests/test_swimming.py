@@ -86,7 +86,7 @@ def test_a_run_that_blows_up_says_when_and_how_fast_instead_of_writing_nans():
 
 def eel_distance(cells: int, dt: float) -> float:
     """eel2d's hand-set gait's distance over 2 s from rest, in one 1.28 x 0.64 m domain (the
-    README's grid convergence table)."""
+    grid convergence table (docs/method-coupling.md))."""
     eel = ag.creatures.get("eel2d")
     scene = ag.make_scene(eel, (cells, cells // 2), 1.28 / cells, fluid="euler")
     policy = eel.policy(eel.gaits["hand-set"].params)
@@ -97,7 +97,7 @@ def eel_distance(cells: int, dt: float) -> float:
 @pytest.mark.slow
 def test_the_eel_s_distance_converges_with_the_grid():
     """Sub-cell boundaries, steps of 1/270 s (the default 1/90 s adds a first-order
-    time-step error of ~9% at 128x64: README, Two-way coupling): the change per
+    time-step error of ~9% at 128x64: docs/method-coupling.md): the change per
     halving of h shrinks by half or more, and the default grid is within 5% of
     512x256. Measured 0.3225, 0.3445, 0.3380 m at 128, 256 and 512 cells."""
     coarse, middle, fine = (eel_distance(n, 1 / 270) for n in (128, 256, 512))

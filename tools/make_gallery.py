@@ -1,4 +1,4 @@
-"""Draw the README's pictures of the creature library, each by aquagait's own renderer.
+"""Draw the creature library's pictures (README, docs/gallery.md) with aquagait's own renderer.
 
 Run from the repository root: ``python tools/make_gallery.py [NAME ...]``. For
 every library creature (or those named) it swims the shipped gait from rest
@@ -11,7 +11,7 @@ named this time from their pictures already in ``docs/gallery``).
 
 For the fish also ``docs/fish_swim.png``, a contact sheet of six frames of
 its third second (from its own view, the side and above); for eel2d also
-``docs/eel2d_swim.png``, the README's first picture: the last frame of
+``docs/eel2d_swim.png``, the getting-started page's picture: the last frame of
 ``aquagait swim eel2d --seconds 4``.
 """
 

@@ -1,4 +1,4 @@
-"""Convergence curves of searches on different budgets, in one picture (README, issue 29).
+"""Convergence curves of searches on different budgets, one picture (docs/method-search.md).
 
     python tools/plot_budgets.py docs/optimize/eel2d-budgets.png --title eel2d \
         --runs "default=runs/eel2d-default-s*" --runs "paper 16 x 100=runs/eel2d-paper-s*"

@@ -95,7 +95,7 @@ MOSTLY_WATER = 0.5
 after the solve (for advection); below it, it takes the body's
 (``rigid_faces_``). The body's velocity so re-enters the next solve as the
 water's on those faces, once a step: the more steps a second, the more the
-water there is held to the body (README, "Step and grid"). 0 keeps the water's
+water there is held to the body (docs/method-coupling.md, "Step and grid"). 0 keeps the water's
 velocity on every face with water."""
 
 LinkMotion = tuple[np.ndarray, np.ndarray, np.ndarray]

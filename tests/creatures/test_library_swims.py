@@ -3,7 +3,7 @@ within its energy bound, upright, and, at cruise, as the animal does.
 
 Slow (twenty cycles of every creature on its default grid: about 15 minutes on one
 core); run with ``python3 -m pytest -m slow tests/creatures/test_library_swims.py -s``
-to see each creature's README Table 1 row: body lengths per cycle from rest, cycles to
+to see each creature's Table 1 row (docs/library.md): body lengths per cycle from rest, cycles to
 settle, and at cruise body lengths per cycle, Strouhal number and cost of transport.
 """
 
@@ -28,7 +28,7 @@ UPRIGHT_DEGREES = 30.0
 """The largest pitch and roll of any cycle (``aquagait.metrics.attitude_metrics``) allowed
 over the twenty. Open loop, nothing rights a swimmer in this fluid (no gravity, no fins that
 correct), and a wake that loses its symmetry turns it slowly: eel3d rolls up to 26 degrees
-and pitches 8.5, the alien rolls 20, the fish pitches 8.4 (README, "Long swims")."""
+and pitches 8.5, the alien rolls 20, the fish pitches 8.4 (docs/swim.md, "Long swims")."""
 
 ANGUILLIFORM = {"eel2d", "eel3d"}
 """Swimmers that undulate the whole body; the fish is carangiform."""

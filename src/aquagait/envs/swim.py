@@ -149,7 +149,8 @@ class SwimEnv(gym.Env):
         distance_weight: task 'follow': the weight on the distance from the path [1/s].
         sense_flow: add the lateral line (``aquagait.envs.sensing``; Euler fluid).
         sensors: how many flow sensors, half a flank.
-        resolution, cell_size: the fluid grid; default the creature's.
+        resolution: the fluid grid's cells per axis; default the creature's.
+        cell_size: the fluid grid's cell size [m]; default the creature's.
         render_mode: None or 'rgb_array' (the 2D and 3D pictures of ``aquagait swim``;
             the ``viz`` extra, 3D also ``render``).
 

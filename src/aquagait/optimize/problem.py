@@ -55,8 +55,9 @@ class Problem:
             A call that raises, or returns nan or inf, is a failure: the sample
             gets `Settings.penalty` and the run goes on.
         x0: (n,) start of the search (the CMA-ES mean); inside the bounds.
-        lower, upper: (n,) box bounds, finite, `lower < upper`. Every sample
-            handed to `objective` lies inside them: pycma's `BoundTransform`
+        lower: (n,) lower box bounds, finite.
+        upper: (n,) upper box bounds, finite, `lower < upper`. Every sample
+            handed to `objective` lies inside the box: pycma's `BoundTransform`
             maps the Gaussian samples into the box (a smooth, piecewise
             quadratic fold near each bound), so no evaluation is wasted outside.
         sigma0: initial step size, in units of `x` for a coordinate whose bound
@@ -187,8 +188,8 @@ class Settings:
             broke, Dask's KilledWorker, a lost connection) before it gets
             `penalty`. An objective that raises is not retried: the simulation
             is deterministic and would raise again.
-        tolfun, tolx: pycma's stopping tolerances on the spread of recent
-            objective values and on the step size in x.
+        tolfun: pycma's stopping tolerance on the spread of recent objective values.
+        tolx: pycma's stopping tolerance on the step size in x.
         refine_top: with `Problem.refine`, how many of every generation's best
             samples (by `objective`) are evaluated with `refine`.
     """

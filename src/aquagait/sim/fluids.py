@@ -113,20 +113,25 @@ class Vacuum:
     max_dt: float = 1 / 300
 
     def bind(self, model: Model, grid: Grid | None) -> Vacuum:
+        """Itself: a vacuum bakes nothing (``FluidModel.bind``)."""
         return self
 
     def init(self, scene: Scene, state: State) -> State:
+        """``state`` unchanged: a vacuum has no fields (``FluidModel.init``)."""
         return state
 
     def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
+        """The body ``dt`` [s] later under its servo's torques alone (``FluidModel.step``)."""
         tau, damping = servo_forces(scene, state, dt, policy)  # the stable PD: at t + dt
         qdd = predict_body(scene, state, dt, tau, damping)  # (M + dt Kd) qdd = tau - c
         return move_body(scene, state, dt, tau, damping, state.qvel + dt * qdd)
 
     def longest_step(self, state: State, dt: float) -> float:
+        """``dt``: a vacuum sets no stability limit of its own (``FluidModel.longest_step``)."""
         return dt
 
     def settings(self) -> dict:
+        """No parameters: ``{}`` (``FluidModel.settings``)."""
         return {}
 
 
@@ -162,12 +167,16 @@ class SimpleFluid:
             raise ValueError(f"drag_coefficient must be >= 0 and finite, got {k!r}")
 
     def bind(self, model: Model, grid: Grid | None) -> SimpleFluid:
+        """This fluid with the creature's surface patches baked in (``FluidModel.bind``)."""
         return replace(self, surface=body_surface(model))
 
     def init(self, scene: Scene, state: State) -> State:
+        """``state`` unchanged: drag has no fields (``FluidModel.init``)."""
         return state
 
     def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
+        """The body ``dt`` [s] later under its servo's torques and the drag on every patch
+        (``FluidModel.step``)."""
         tau, damping = servo_forces(scene, state, dt, policy)
         drag = drag_force(self.surface, scene.dynamics, state.qpos, state.qvel, scene.density,
                           self.drag_coefficient)  # fmt: skip
@@ -175,9 +184,11 @@ class SimpleFluid:
         return move_body(scene, state, dt, tau, damping, state.qvel + dt * qdd)
 
     def longest_step(self, state: State, dt: float) -> float:
+        """``dt``: drag sets no stability limit of its own (``FluidModel.longest_step``)."""
         return dt
 
     def settings(self) -> dict:
+        """``{"drag_coefficient": ...}`` (``FluidModel.settings``)."""
         return {"drag_coefficient": self.drag_coefficient}
 
 
@@ -200,12 +211,12 @@ class EulerFluid:
             this many cells a step.
         max_dt: default longest step [s]: three steps a 1/30 s frame. Gaits
             are ranked, and the library's figures measured, at this step;
-            how far a swim moves when it is shortened: README, "Step and
-            grid", and ``aquagait check NAME --convergence``.
+            how far a swim moves when it is shortened: docs/method-coupling.md,
+            "Step and grid", and ``aquagait check NAME --convergence``.
         dtype: the precision of the fluid's face velocities between steps and in
             advection, ``np.float64`` or ``np.float32``; the coupled pressure
             solve runs in float64 either way (``benchmarks/precision.py`` and
-            README, "Single precision", for what float32 buys).
+            docs/method-coupling.md, "Single precision", for what float32 buys).
         near_body: faces within this many cells of the body are advected at
             first order (BFECC's own first pass, ``bfecc(first_order=...)``):
             there the field holds the body's velocity, not an advected one, and
@@ -252,6 +263,13 @@ class EulerFluid:
             )
 
     def bind(self, model: Model, grid: Grid | None) -> EulerFluid:
+        """This fluid with the faces' wetted area for the creature's depth baked in
+        (``FluidModel.bind``).
+
+        Raises:
+            ValueError: no grid, or one too small to hold the creature with
+                ``clearance`` cells of water on every side.
+        """
         if grid is None:
             raise ValueError(
                 f"fluid 'euler' needs a grid: give resolution and cell_size for {model.source}"
@@ -260,6 +278,12 @@ class EulerFluid:
         return replace(self, area=face_area(grid, model.depth))
 
     def init(self, scene: Scene, state: State) -> State:
+        """``state`` with still water, the body's faces moving with it, and zero pressure
+        (``FluidModel.init``).
+
+        Raises:
+            ValueError: the body lies within ``clearance`` cells of the grid's walls.
+        """
         grid = scene.grid
         if (room(grid, body_bounds(scene, state.qpos)) < self.clearance).any():
             raise ValueError(
@@ -320,6 +344,7 @@ class EulerFluid:
         return longest
 
     def settings(self) -> dict:
+        """The schemes by name and the numerical parameters (``FluidModel.settings``)."""
         return {
             "advect": getattr(self.advect, "__name__", repr(self.advect)),
             "solve": getattr(self.solve, "__name__", repr(self.solve)),
