@@ -188,3 +188,41 @@ def test_with_the_gait_period_the_rotation_is_free_of_the_recoil_within_a_cycle(
         assert obj.deviation(fish, trajectory(spatial), (1, 0, 0), period=1.0) == pytest.approx(
             np.linalg.norm(turned)
         )
+
+
+# --- the efficiency objective ----------------------------------------------------------
+
+
+def cruising(eel, speed=0.3, power=0.2, seconds=4.0, fps=30.0):
+    """The eel's root moving along x at ``speed`` [m/s] while its joints spend ``power`` [W]."""
+    frames = int(seconds * fps) + 1
+    time = np.arange(frames) / fps
+    path = np.zeros((frames, eel.model.nq))
+    path[:, 0] = speed * time
+    energy = np.zeros((frames, eel.model.nv))
+    energy[:, -1] = power * time
+    return trajectory(path, energy, fps)
+
+
+def test_cruise_is_the_speed_and_the_cost_of_transport_over_the_last_cycles(eel):
+    traj = cruising(eel, speed=0.3, power=0.2)
+    speed, cost = obj.cruise(eel.model, traj, (1, 0), period=1.0, cycles=2)
+    assert speed == pytest.approx(0.3)
+    assert cost == pytest.approx(0.2 * 2 / (eel.model.mass * 0.3 * 2))  # work / (m d)
+    start = cruising(eel, speed=0.3, power=0.2)
+    start.qpos[:60, 0] = 0.0  # idle for two seconds, then a jump: outside the window
+    assert obj.cruise(eel.model, start, (1, 0), 1.0, 2)[0] == pytest.approx(0.3)
+    with pytest.raises(ValueError, match="less than the 5 cycles"):
+        obj.cruise(eel.model, traj, (1, 0), period=1.0, cycles=5)
+
+
+def test_the_efficiency_term_is_the_cost_in_the_references_unit_plus_the_speed_shortfall(eel):
+    traj = cruising(eel, speed=0.3, power=0.2)
+    _, cost = obj.cruise(eel.model, traj, (1, 0), 1.0)
+    fast_enough = obj.efficiency(eel.model, traj, (1, 0), 1.0, min_speed=0.25,
+                                 reference_cost=2 * cost)  # fmt: skip
+    assert fast_enough == pytest.approx(0.5)  # half the reference's cost, no shortfall
+    too_slow = obj.efficiency(eel.model, traj, (1, 0), 1.0, min_speed=0.4, reference_cost=cost)
+    assert too_slow == pytest.approx(1 + obj.SPEED_WEIGHT * (1 - 0.3 / 0.4))
+    backwards = obj.efficiency(eel.model, cruising(eel, speed=-0.1), (1, 0), 1.0, 0.4, cost)
+    assert backwards == pytest.approx(obj.COST_CAP + obj.SPEED_WEIGHT * (1 + 0.1 / 0.4))

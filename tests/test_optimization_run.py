@@ -232,3 +232,34 @@ def test_a_grid_too_narrow_for_the_search_s_gaits_is_named_with_one_that_holds_t
     wider = (int(found[2]), int(found[3]))
     assert prepare_optimization("eel2d", resolution=wider, cell_size=0.025).notes == ()
     assert prepare_optimization("eel2d", **COARSE).notes == ()
+
+
+def test_the_efficiency_objective_is_measured_in_the_starting_gaits_cost():
+    setup = prepare_optimization("eel2d", objective="efficiency", cycles=3, **COARSE)
+    objective = setup.objective
+    speed, cost = objective.cruise(setup.problem.x0)
+    assert objective.reference_cost == cost and objective.seconds == 3.0
+    assert objective.min_speed == pytest.approx(0.75 * speed)  # the default: 75 % of it
+    # the start: its own cost (1), fast enough, plus its small drift and turn
+    assert 1.0 < objective(setup.problem.x0) < 1.0 + 0.2 * 0.5
+    config = setup.config()
+    assert config["objective"] == "efficiency" and config["cruise_cycles"] == 2
+    assert config["reference_cost_of_transport"] == cost and "efficiency" in setup.notes[0]
+    asked = prepare_optimization("eel2d", objective="efficiency", cycles=3, min_speed=10 * speed,
+                                 **COARSE)  # fmt: skip
+    assert asked.objective(setup.problem.x0) > 1 + 0.8 * 10  # 90 % short of its speed
+
+
+@pytest.mark.parametrize(
+    "flags, message",
+    [
+        ({"objective": "speed"}, "unknown objective 'speed'; objectives: distance, efficiency"),
+        ({"objective": "efficiency", "maneuver": "turn-left"}, "efficiency objective is for"),
+        ({"min_speed": 0.2}, "--min-speed is for --objective efficiency"),
+        ({"objective": "efficiency", "min_speed": -1.0}, "min speed must be a speed > 0"),
+        ({"objective": "efficiency", "cycles": 2}, "give at least 3 cycles, got 2"),
+    ],
+)
+def test_bad_efficiency_settings_say_what_would_be_right(flags, message):
+    with pytest.raises(OptimizationSetupError, match=message):
+        prepare_optimization("eel2d", **COARSE, **flags)

@@ -128,5 +128,5 @@ def _describe(action: argparse.Action) -> str:
 
 
 def _sentence(text: str) -> str:
-    text = " ".join(text.split())
+    text = " ".join(text.split()).replace("%%", "%")  # argparse's escape
     return f"{text[:1].upper()}{text[1:]}." if text and not text.endswith(".") else text

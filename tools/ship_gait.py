@@ -62,6 +62,9 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
         command += ["--start", opt["start"]]
     if opt.get("step") is not None:
         command += ["--step", f"{opt['step']:g}"]
+    if opt.get("objective", "distance") != "distance":  # with what it was measured by
+        command += ["--objective", opt["objective"], "--min-speed", f"{opt['min_speed']:.6g}",
+                    "--cycles", f"{opt['seconds_per_sample'] / config['period']:g}"]  # fmt: skip
     metrics = json.loads((run / "metrics.json").read_text())
     return {
         "method": "optimized",
@@ -72,6 +75,7 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
         "popsize": opt["popsize"],
         "grid": grid,
         "fluid_settings": opt.get("fluid_settings"),
+        "objective_kind": opt.get("objective", "distance"),
         "objective": float(rows[-1]["best"]),
         "wall_time": round(float(rows[-1]["elapsed"])),
         "body_lengths_per_cycle_from_rest": metrics.get("body_lengths_per_cycle_from_rest"),

@@ -11,7 +11,13 @@ from pathlib import Path
 
 import aquagait
 from aquagait.bench import BENCHMARKS
-from aquagait.objectives import MANEUVERS
+from aquagait.objectives import (
+    EFFICIENCY_CYCLES,
+    EFFICIENCY_WINDOW,
+    MANEUVERS,
+    MIN_SPEED_SHARE,
+    OBJECTIVES,
+)
 from aquagait.sim import FLUIDS
 
 CONVERGED = math.inf
@@ -216,6 +222,9 @@ def _cmd_optimize(args) -> int:
             energy_weight=args.energy_weight,
             max_evaluations=args.max_evaluations,
             patience=args.patience,
+            objective=args.objective,
+            min_speed=args.min_speed,
+            cycles=args.cycles,
         )
         label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
         out = output_directory(args.out or Path("runs") / label)
@@ -567,6 +576,24 @@ def build_parser() -> argparse.ArgumentParser:
                           help="the weight of the actuator work [J] in the objective once "
                           "it passes the energy bound (default: the creature's, 1 unless its "
                           "metadata says)")  # fmt: skip
+    optimize.add_argument(
+        "--objective",
+        choices=OBJECTIVES,
+        default="distance",
+        help="what to minimize: the paper's (distance, the default), or the "
+        "cost of transport at cruise at or above --min-speed (efficiency)",
+    )
+    optimize.add_argument(
+        "--min-speed",
+        type=float,
+        metavar="U",
+        help="efficiency: the cruising speed to keep at least [m/s] (default: "
+        f"{100 * MIN_SPEED_SHARE:g}%% of the starting gait's)",
+    )
+    optimize.add_argument("--cycles", type=float, metavar="N",
+                          help="gait cycles swum per sample (default 2, the paper's; "
+                          f"efficiency: {EFFICIENCY_CYCLES:g}, the last "
+                          f"{EFFICIENCY_WINDOW} measured)")  # fmt: skip
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=_cmd_optimize)

@@ -35,6 +35,20 @@ path can be followed with.
 Each term is a function of a ``Trajectory``; weights and direction are
 ``Weights`` and an argument. The units mix, as in the paper: the weights
 (0.2 and 100) were chosen for them.
+
+The efficiency objective (``efficiency_total``, ``aquagait optimize
+--objective efficiency``) asks for economy instead of distance: over a run
+long enough to reach cruise, minimized
+
+    E = C / C_ref + w_speed max(0, 1 - U / U_min) + w_dev E_deviation + w_col E_collision
+
+with ``U`` [m/s] the root's speed along ``d`` and ``C`` [J/(kg m)] the cost
+of transport (work over mass times distance) over the run's last
+``EFFICIENCY_WINDOW`` whole gait cycles (``cruise``), ``C_ref`` the
+starting gait's (so the first term starts near 1 and needs no unit),
+``U_min`` the speed it must cruise at or above, and ``w_speed =
+SPEED_WEIGHT``: a gait 10 % too slow pays as much as the whole reference
+cost. The energy bound does not apply: economy is the objective itself.
 """
 
 from __future__ import annotations
@@ -51,6 +65,31 @@ from aquagait.sim import Scene, Trajectory
 
 COLLISION_POINTS = 100
 """Lattice points along the body's length for ``E_collision`` (about 100^3 over the creature)."""
+
+EFFICIENCY_WINDOW = 2
+"""Whole gait cycles at the end of a run over which the efficiency objective measures."""
+
+OBJECTIVES = ("distance", "efficiency")
+"""What a search minimizes: the paper's objective (``objectives.total``, the default), or
+the cost of transport at cruise above a speed (``objectives.efficiency_total``)."""
+
+EFFICIENCY_CYCLES = 6.0
+"""Gait cycles simulated per sample of the efficiency objective: eel2d and the other 2D
+creatures settle at cruise by their fourth (docs/library.md), and the last
+``EFFICIENCY_WINDOW`` cycles are measured. A 3D creature that settles later
+needs ``cycles`` to match (the fish: 12)."""
+
+MIN_SPEED_SHARE = 0.75
+"""Without ``min_speed``, the efficiency objective asks for this share of the starting
+gait's speed over the same cycles."""
+
+SPEED_WEIGHT = 10.0
+"""The efficiency objective's weight of the speed shortfall (module docstring)."""
+
+COST_CAP = 10.0
+"""The efficiency objective's cost term is at most this (in units of the reference cost):
+a gait that hardly moves forward is ranked by its speed shortfall, not by a cost that
+diverges as its distance vanishes."""
 
 COLLISION_FRAME_STRIDE = 2
 """Overlap is measured every this many frames (15 a second) and at the last one, and integrated."""
@@ -239,6 +278,58 @@ def total(
     if axis is not None:
         value += turning(model, traj, axis, period=period)
     value += energy(traj, energy_bound, weights.energy)
+    if weights.collision:
+        value += weights.collision * collision(scene, traj)
+    return value
+
+
+def cruise(model: Model, traj: Trajectory, direction, period: float,
+           cycles: int = EFFICIENCY_WINDOW) -> tuple[float, float]:  # fmt: skip
+    """The root's speed along ``direction`` [m/s] and the cost of transport [J/(kg m)]
+    (actuator work over mass times that distance; inf if it went nowhere forward) over
+    the run's last ``cycles`` whole gait cycles of ``period`` [s].
+
+    Raises:
+        ValueError: the run is shorter than ``cycles`` periods.
+    """
+    end = float(traj.time[-1])
+    start = end - cycles * period
+    if start < traj.time[0] - 1e-9 * period:
+        raise ValueError(
+            f"the run lasts {end - traj.time[0]:.4g} s, less than the {cycles} cycles of "
+            f"{period:.4g} s its cruise is measured over"
+        )
+    held = 2 if model.planar else model.dim
+    position = np.zeros((len(traj.time), model.dim))
+    position[:, :held] = traj.qpos[:, :held]
+    before = np.array([np.interp(start, traj.time, position[:, a]) for a in range(model.dim)])
+    ahead = float(_unit(direction, model.dim) @ (position[-1] - before))
+    total_work = traj.energy.sum(axis=1)
+    spent = float(total_work[-1] - np.interp(start, traj.time, total_work))
+    cost = spent / (model.mass * ahead) if ahead > 0 else np.inf
+    return ahead / (end - start), cost
+
+
+def efficiency(model: Model, traj: Trajectory, direction, period: float, min_speed: float,
+               reference_cost: float, cycles: int = EFFICIENCY_WINDOW) -> float:  # fmt: skip
+    """``C / C_ref + w_speed max(0, 1 - U / U_min)`` (module docstring): ``U`` and ``C``
+    over the last ``cycles`` cycles of ``period`` [s] (``cruise``); ``min_speed`` [m/s];
+    ``reference_cost`` [J/(kg m)]; the cost term capped at ``COST_CAP``."""
+    speed, cost = cruise(model, traj, direction, period, cycles)
+    shortfall = max(0.0, 1.0 - speed / min_speed)  # above 1 when it swims backwards
+    return min(cost / reference_cost, COST_CAP) + SPEED_WEIGHT * shortfall
+
+
+def efficiency_total(scene: Scene, traj: Trajectory, direction, period: float,
+                     min_speed: float, reference_cost: float,
+                     weights: Weights = Weights(),  # noqa: B008 (frozen)
+                     cycles: int = EFFICIENCY_WINDOW) -> float:  # fmt: skip
+    """The efficiency objective of a run (module docstring): ``efficiency`` plus the
+    paper's deviation (drift and turning over the whole run, free of recoil) and
+    collision terms."""
+    model = scene.model
+    value = efficiency(model, traj, direction, period, min_speed, reference_cost, cycles)
+    value += weights.deviation * deviation(model, traj, direction, period=period)
     if weights.collision:
         value += weights.collision * collision(scene, traj)
     return value

@@ -31,12 +31,14 @@ from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
+from aquagait.objectives import EFFICIENCY_CYCLES, MIN_SPEED_SHARE, OBJECTIVES
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
 from aquagait.sim.follow import CLEARANCE, cells_for, widest_box
 
 DEFAULT_CYCLES = 2.0
 """Gait cycles simulated per sample (paper §4)."""
+
 
 POPULATION = {2: 16, 3: 31}
 """The paper's CMA-ES population per creature dimension (§4); the default is CMA-ES's own
@@ -68,6 +70,11 @@ class SwimObjective:
         maneuver: the manoeuvre learned (``objectives.MANEUVERS``); the
             parameters are in its parameterization (``Creature.spec``).
         axis: the manoeuvre's desired axis of rotation (3,), None for straight.
+        objective: 'distance' (the paper's, ``objectives.total``) or 'efficiency'
+            (``objectives.efficiency_total``).
+        min_speed: efficiency: the cruising speed to reach at least [m/s].
+        reference_cost: efficiency: the starting gait's cost of transport [J/(kg m)],
+            the unit of the cost term.
     """
 
     creature: str
@@ -80,16 +87,33 @@ class SwimObjective:
     clearance: float | None = None
     maneuver: str = STRAIGHT
     axis: tuple[float, ...] | None = None
+    objective: str = "distance"
+    min_speed: float | None = None
+    reference_cost: float | None = None
 
     def __call__(self, params) -> float:
+        creature, scene, traj, period = self._swim(params)
+        if self.objective == "efficiency":
+            return objectives.efficiency_total(scene, traj, self.direction, period,
+                                               self.min_speed, self.reference_cost,
+                                               self.weights)  # fmt: skip
+        return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights,
+                                axis=self.axis, period=period)  # fmt: skip
+
+    def cruise(self, params) -> tuple[float, float]:
+        """Speed [m/s] and cost of transport [J/(kg m)] of the gait over the sample's last
+        cycles (``objectives.cruise``)."""
+        _, scene, traj, period = self._swim(params)
+        return objectives.cruise(scene.model, traj, self.direction, period)
+
+    def _swim(self, params):
         creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid,
                                  self.clearance)  # fmt: skip
         params = np.asarray(params, dtype=float)
         policy = creature.policy(params, self.maneuver)
         traj = rollout(scene, init_state(scene), policy, self.seconds, record_fluid=False)
         period = float(np.max(creature.spec(self.maneuver).unpack(params).period))
-        return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights,
-                                axis=self.axis, period=period)  # fmt: skip
+        return creature, scene, traj, period
 
 
 @functools.lru_cache(maxsize=4)
@@ -159,7 +183,9 @@ class OptimizationSetup:
             fluid_settings=_fluid(o.fluid, o.clearance).settings(),
             resolution=o.resolution,
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
-            direction=list(o.direction),
+            direction=list(o.direction), objective=o.objective, min_speed=o.min_speed,
+            reference_cost_of_transport=o.reference_cost,
+            cruise_cycles=objectives.EFFICIENCY_WINDOW if o.objective == "efficiency" else None,
             weights=vars(o.weights), energy_bound=self.creature.energy_bound,
             popsize=s.popsize, generations=s.generations, seed=s.seed,
             populations=self.populations(), max_evaluations=s.max_evaluations,
@@ -203,7 +229,7 @@ def prepare_optimization(
     resolution=None,
     cell_size: float | None = None,
     fluid: str = "euler",
-    cycles: float = DEFAULT_CYCLES,
+    cycles: float | None = None,
     coarse: float | None = None,
     refine_top: int = 2,
     maneuver: str = STRAIGHT,
@@ -212,6 +238,8 @@ def prepare_optimization(
     energy_weight: float | None = None,
     max_evaluations: int | None = None,
     patience: int | None = None,
+    objective: str = "distance",
+    min_speed: float | None = None,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -230,7 +258,8 @@ def prepare_optimization(
         seed: random seed: the same seed gives the same gait, serial or parallel.
         resolution, cell_size: the fluid grid; default the creature's.
         fluid: 'euler', 'simple' or 'none'.
-        cycles: gait cycles simulated per sample.
+        cycles: gait cycles simulated per sample; None: ``DEFAULT_CYCLES`` (distance)
+            or ``EFFICIENCY_CYCLES`` (efficiency).
         coarse: rank the samples on a grid this many times coarser
             (``aquagait.app.coarse``) and swim each generation's best
             ``refine_top`` again on the target grid; None: the target grid only.
@@ -252,6 +281,12 @@ def prepare_optimization(
         patience: generations without a ``Settings.tolerance`` improvement of the
             best before a group stops; None: ``aquagait.optimize.default_patience``
             unless ``generations`` is given, then off.
+        objective: 'distance' (the paper's) or 'efficiency': the cost of transport over
+            the last ``objectives.EFFICIENCY_WINDOW`` cycles, at or above ``min_speed``
+            (``objectives.efficiency_total``; straight swimming only). Its unit, the
+            starting gait's cost, is measured here by swimming it once.
+        min_speed: efficiency: the cruising speed [m/s] to keep; None:
+            ``MIN_SPEED_SHARE`` of the starting gait's.
 
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
@@ -290,13 +325,20 @@ def prepare_optimization(
             f"energy weight must be a number >= 0 (per joule, once past the bound), "
             f"got {energy_weight}"
         )
+    _check_objective(objective, maneuver, min_speed, cycles)
+    if cycles is None:
+        cycles = EFFICIENCY_CYCLES if objective == "efficiency" else DEFAULT_CYCLES
     period = float(np.max(gait.unpack(x0).period))
     seconds = cycles * period
+    kind = objective
     objective = SwimObjective(
         key, _tuple(resolution), cell_size, fluid, seconds, tuple(direction.tolist()),
         weights=objectives.Weights(energy=float(energy_weight)), maneuver=maneuver,
-        axis=None if axis is None else tuple(axis.tolist()),
+        axis=None if axis is None else tuple(axis.tolist()), objective=kind,
     )  # fmt: skip
+    efficiency_notes = ()
+    if kind == "efficiency":
+        objective, efficiency_notes = _efficiency(objective, x0, min_speed)
     refine, notes = None, ()
     if coarse is not None:
         objective, refine, notes = _coarse_to_fine(creature, objective, coarse)
@@ -318,9 +360,49 @@ def prepare_optimization(
                             patience=patience)  # fmt: skip
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
-    notes += _room_notes(scene, gait, problem)
+    notes += efficiency_notes + _room_notes(scene, gait, problem)
     start = None if start is None else str(start)
     return OptimizationSetup(creature, objective, problem, settings, notes, start, step)
+
+
+def _check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
+    if objective not in OBJECTIVES:
+        raise OptimizationSetupError(
+            f"unknown objective {objective!r}; objectives: {', '.join(OBJECTIVES)}"
+        )
+    if objective == "efficiency" and maneuver != STRAIGHT:
+        raise OptimizationSetupError(
+            f"the efficiency objective is for swimming straight; a {maneuver} is learned "
+            "with the distance objective (leave out --objective)"
+        )
+    if min_speed is not None and objective != "efficiency":
+        raise OptimizationSetupError("--min-speed is for --objective efficiency")
+    if min_speed is not None and not (np.isfinite(min_speed) and min_speed > 0):
+        raise OptimizationSetupError(f"min speed must be a speed > 0 [m/s], got {min_speed}")
+    least = objectives.EFFICIENCY_WINDOW + 1
+    if objective == "efficiency" and cycles is not None and cycles < least:
+        raise OptimizationSetupError(
+            f"the efficiency objective measures the last {objectives.EFFICIENCY_WINDOW} "
+            f"cycles of a swim from rest: give at least {least} cycles, got {cycles:g}"
+        )
+
+
+def _efficiency(objective: SwimObjective, x0, min_speed) -> tuple[SwimObjective, tuple]:
+    """The efficiency objective with its unit (the start's cost of transport) and its
+    speed (given, or ``MIN_SPEED_SHARE`` of the start's), and notes saying which."""
+    speed, cost = objective.cruise(x0)
+    if not (np.isfinite(cost) and cost > 0):
+        raise OptimizationSetupError(
+            f"the starting gait swims {speed:.3g} m/s over its last "
+            f"{objectives.EFFICIENCY_WINDOW} cycles: it does not swim forward, so it has no "
+            "cost of transport to measure economy by; start from a gait that swims (--start)"
+        )
+    note = (f"efficiency: the starting gait cruises at {speed:.3g} m/s for "
+            f"{cost:.3g} J/(kg m), the cost term's unit")  # fmt: skip
+    if min_speed is None:
+        min_speed = MIN_SPEED_SHARE * speed
+        note += f"; the minimum speed is {MIN_SPEED_SHARE:.0%} of its speed, {min_speed:.3g} m/s"
+    return replace(objective, min_speed=float(min_speed), reference_cost=float(cost)), (note,)
 
 
 ROOM_DRAWS = 64
