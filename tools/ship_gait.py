@@ -49,8 +49,10 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
         "resolution": opt["resolution"] or config["resolution"],
         "cell_size": opt["cell_size"] or config["cell_size"],
     }
-    command = ["aquagait", "optimize", opt["creature"], "--generations", str(opt["generations"]),
-               "--seed", str(opt["seed"]), "--popsize", str(opt["popsize"])]  # fmt: skip
+    command = ["aquagait", "optimize", opt["creature"], "--seed", str(opt["seed"])]
+    for flag in ("generations", "popsize", "patience", "max_evaluations"):  # None: the default
+        if opt.get(flag) is not None:
+            command += [f"--{flag.replace('_', '-')}", str(opt[flag])]
     if opt.get("maneuver", "straight") != "straight":
         command += ["--maneuver", opt["maneuver"]]
     # the grid always, the default's too: a creature's default grid may change later

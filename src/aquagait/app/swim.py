@@ -286,9 +286,8 @@ def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progre
     out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
     write_gait(out / "gait.json", creature, run.setup.params, run.setup.maneuver)
     if video:
-        draw_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress,
-                  **(run.setup.look or picture_look(creature.model, None, None, None,
-                                                    creature.view)))  # fmt: skip
+        look = run.setup.look or picture_look(creature.model, default_view=creature.view)
+        draw_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress, **look)
     return out
 
 
