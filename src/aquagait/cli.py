@@ -11,6 +11,7 @@ from pathlib import Path
 
 import aquagait
 from aquagait.bench import BENCHMARKS
+from aquagait.control.gait import FREE_PERIOD
 from aquagait.objectives import (
     EFFICIENCY_CYCLES,
     EFFICIENCY_WINDOW,
@@ -225,6 +226,7 @@ def _cmd_optimize(args) -> int:
             objective=args.objective,
             min_speed=args.min_speed,
             cycles=args.cycles,
+            free_period=args.free_period,
         )
         label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
         out = output_directory(args.out or Path("runs") / label)
@@ -594,6 +596,10 @@ def build_parser() -> argparse.ArgumentParser:
                           help="gait cycles swum per sample (default 2, the paper's; "
                           f"efficiency: {EFFICIENCY_CYCLES:g}, the last "
                           f"{EFFICIENCY_WINDOW} measured)")  # fmt: skip
+    low, high = FREE_PERIOD
+    optimize.add_argument("--free-period", action="store_true",
+                          help="search the gait's period too, one for every joint, "
+                          f"{low:g} to {high:g} times the creature's (straight)")  # fmt: skip
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=_cmd_optimize)

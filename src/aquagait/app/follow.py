@@ -332,6 +332,12 @@ def _library(creature: Creature, learned) -> dict:
             gait = read_gait(file, creature)
         except GaitFileError as err:
             raise FollowSetupError(str(err)) from None
+        if gait.free_period:
+            raise FollowSetupError(
+                f"{file} sets its own period (searched with --free-period); the follower "
+                "switches between gaits at whole cycles of the one period they share: learn "
+                "the manoeuvres without --free-period"
+            )
         gaits[gait.maneuver] = (creature.spec(gait.maneuver), gait.params, str(file))
     return gaits
 

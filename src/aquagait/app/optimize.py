@@ -75,6 +75,10 @@ class SwimObjective:
         min_speed: efficiency: the cruising speed to reach at least [m/s].
         reference_cost: efficiency: the starting gait's cost of transport [J/(kg m)],
             the unit of the cost term.
+        free_period: the gait's period is a parameter (``Creature.spec``).
+        cycles: when set, a sample swims this many of its own gait cycles instead of
+            ``seconds`` (the efficiency objective with a free period: it measures whole
+            cycles at cruise, and a slower rhythm takes longer to reach it).
     """
 
     creature: str
@@ -90,6 +94,8 @@ class SwimObjective:
     objective: str = "distance"
     min_speed: float | None = None
     reference_cost: float | None = None
+    free_period: bool = False
+    cycles: float | None = None
 
     def __call__(self, params) -> float:
         creature, scene, traj, period = self._swim(params)
@@ -109,10 +115,11 @@ class SwimObjective:
     def _swim(self, params):
         creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid,
                                  self.clearance)  # fmt: skip
-        params = np.asarray(params, dtype=float)
-        policy = creature.policy(params, self.maneuver)
-        traj = rollout(scene, init_state(scene), policy, self.seconds, record_fluid=False)
-        period = float(np.max(creature.spec(self.maneuver).unpack(params).period))
+        gait = creature.spec(self.maneuver, self.free_period).unpack(params)
+        period = float(np.max(gait.period))
+        seconds = self.seconds if self.cycles is None else self.cycles * period
+        traj = rollout(scene, init_state(scene), creature.servo(gait), seconds,
+                       record_fluid=False)  # fmt: skip
         return creature, scene, traj, period
 
 
@@ -136,10 +143,11 @@ class JointLimits:
 
     creature: str
     maneuver: str = STRAIGHT
+    free_period: bool = False
 
     def __call__(self, params) -> bool:
         creature = creatures.resolve(self.creature)
-        spec = creature.spec(self.maneuver)
+        spec = creature.spec(self.maneuver, self.free_period)
         return not spec.limit_violations(params, *creature.gait_limits(self.maneuver))
 
 
@@ -184,6 +192,7 @@ class OptimizationSetup:
             resolution=o.resolution,
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
             direction=list(o.direction), objective=o.objective, min_speed=o.min_speed,
+            free_period=o.free_period, cycles_per_sample=o.cycles,
             reference_cost_of_transport=o.reference_cost,
             cruise_cycles=objectives.EFFICIENCY_WINDOW if o.objective == "efficiency" else None,
             weights=vars(o.weights), energy_bound=self.creature.energy_bound,
@@ -240,6 +249,7 @@ def prepare_optimization(
     patience: int | None = None,
     objective: str = "distance",
     min_speed: float | None = None,
+    free_period: bool = False,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -287,6 +297,12 @@ def prepare_optimization(
             starting gait's cost, is measured here by swimming it once.
         min_speed: efficiency: the cruising speed [m/s] to keep; None:
             ``MIN_SPEED_SHARE`` of the starting gait's.
+        free_period: search the period too, one for every DOF, within
+            ``aquagait.control.gait.FREE_PERIOD`` times the creature's (straight
+            swimming only). The distance objective swims each sample for the same
+            time (``cycles`` of the creature's period), so a faster rhythm is paid
+            for in energy; the efficiency objective swims each sample ``cycles`` of
+            its own period and measures the last whole ones.
 
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
@@ -314,8 +330,9 @@ def prepare_optimization(
         direction, axis = objectives.maneuver_goal(maneuver, creature.dim, creature.model.planar)
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
-    gait = creature.spec(maneuver)
-    x0 = _start(creature, maneuver, start)
+    _check_free_period(creature, maneuver, free_period)
+    gait = creature.spec(maneuver, free_period)
+    x0 = _start(creature, maneuver, start, free_period)
     if step is not None and not 0 < step <= 1:
         raise OptimizationSetupError(f"step must be in (0, 1], a share of each range; got {step}")
     if energy_weight is None:
@@ -335,6 +352,8 @@ def prepare_optimization(
         key, _tuple(resolution), cell_size, fluid, seconds, tuple(direction.tolist()),
         weights=objectives.Weights(energy=float(energy_weight)), maneuver=maneuver,
         axis=None if axis is None else tuple(axis.tolist()), objective=kind,
+        free_period=free_period,
+        cycles=float(cycles) if free_period and kind == "efficiency" else None,
     )  # fmt: skip
     efficiency_notes = ()
     if kind == "efficiency":
@@ -349,7 +368,7 @@ def prepare_optimization(
         lower=gait.lower,
         upper=gait.upper,
         sigma0=None if step is None else step * float(np.mean(gait.upper - gait.lower)),
-        feasible=JointLimits(key, maneuver),
+        feasible=JointLimits(key, maneuver, free_period),
         groups=tuple(gait.group_indices(k) for k in range(len(groups))) if len(groups) > 1 else (),
         names=gait.names,
         refine=refine,
@@ -384,6 +403,21 @@ def _check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
         raise OptimizationSetupError(
             f"the efficiency objective measures the last {objectives.EFFICIENCY_WINDOW} "
             f"cycles of a swim from rest: give at least {least} cycles, got {cycles:g}"
+        )
+
+
+def _check_free_period(creature: Creature, maneuver: str, free_period: bool) -> None:
+    if not free_period:
+        return
+    if maneuver != STRAIGHT:
+        raise OptimizationSetupError(
+            f"--free-period is for swimming straight: a {maneuver} keeps the straight gait's "
+            "period, as the path follower switches between them at whole cycles"
+        )
+    if creature.gait.free_period:
+        raise OptimizationSetupError(
+            f"{creature.name}'s gait has its period free already (its side-car's gait.free: "
+            f"{', '.join(creature.gait.free)}); leave out --free-period"
         )
 
 
@@ -447,17 +481,24 @@ def _room_notes(scene: Scene, gait, problem: Problem) -> tuple[str, ...]:
     )
 
 
-def _start(creature: Creature, maneuver: str, start) -> np.ndarray:
-    """``prepare_optimization``'s start, in ``maneuver``'s parameters: an admissible gait
-    (inside their bounds and the joint limits)."""
+def _start(creature: Creature, maneuver: str, start, free_period: bool = False) -> np.ndarray:
+    """``prepare_optimization``'s start, in ``maneuver``'s parameters (with the period,
+    if ``free_period``): an admissible gait (inside their bounds and the joint limits)."""
     if start is None:
-        return maneuver_start(creature, maneuver)
+        return maneuver_start(creature, maneuver, free_period=free_period)
     try:
-        params, _, kind = find_gait(creature, start)
+        params, _, kind, own_period = find_gait(creature, start)
     except SetupError as err:
         raise OptimizationSetupError(str(err)) from None
-    x0 = maneuver_start(creature, maneuver, creature.spec(kind).unpack(params))
-    problems = gait_problems(creature.spec(maneuver), x0, *creature.gait_limits(maneuver))
+    if own_period and not free_period:
+        raise OptimizationSetupError(
+            f"the start {start} sets its own period: search with --free-period, or the "
+            f"search would start at {creature.name}'s period instead"
+        )
+    gait = creature.spec(kind, own_period).unpack(params)
+    x0 = maneuver_start(creature, maneuver, gait, free_period)
+    spec = creature.spec(maneuver, free_period)
+    problems = gait_problems(spec, x0, *creature.gait_limits(maneuver))
     if problems:
         raise OptimizationSetupError(f"{creature.name}'s start {start} " + "; ".join(problems))
     return x0
@@ -497,7 +538,9 @@ def write_optimization(setup: OptimizationSetup, result: Result, out, plot: bool
     from aquagait.optimize import LOG
 
     out = Path(out)
-    write_gait(out / "gait.json", setup.creature, result.best_x, setup.objective.maneuver)
+    objective = setup.objective
+    write_gait(out / "gait.json", setup.creature, result.best_x, objective.maneuver,
+               objective.free_period)  # fmt: skip
     if plot:
         from aquagait.viz import plot_convergence
 

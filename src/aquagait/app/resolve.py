@@ -43,14 +43,15 @@ def creature_key(creature: Creature) -> str:
     return creatures.as_written(path) if creature.as_written else path
 
 
-def find_gait(creature: Creature, gait: str | Path) -> tuple[np.ndarray, str, str]:
+def find_gait(creature: Creature, gait: str | Path) -> tuple[np.ndarray, str, str, bool]:
     """A gait of ``creature``: the name of one its side-car ships (``hand-set``,
     ``optimized``, a manoeuvre's), or the path of a ``gait.json``.
 
     Returns:
-        ``(params, source, maneuver)``: the parameter vector, where it came from
-        (``shipped NAME`` or the path) and the manoeuvre whose parameterization it is
-        in (a manoeuvre's own name; ``straight`` for the other shipped gaits).
+        ``(params, source, maneuver, free_period)``: the parameter vector, where it
+        came from (``shipped NAME`` or the path), the manoeuvre whose parameterization
+        it is in (a manoeuvre's own name; ``straight`` for the other shipped gaits),
+        and whether its period is among its parameters (``Creature.spec``).
 
     Raises:
         SetupError: no such file or shipped gait (the message lists the shipped
@@ -58,13 +59,14 @@ def find_gait(creature: Creature, gait: str | Path) -> tuple[np.ndarray, str, st
     """
     if isinstance(gait, str) and gait in creature.gaits and not Path(gait).exists():
         maneuver = gait if gait in MANEUVERS else "straight"
-        return creature.gaits[gait].params, f"shipped {gait}", maneuver
+        shipped = creature.gaits[gait]
+        return shipped.params, f"shipped {gait}", maneuver, shipped.free_period
     try:
         found = read_gait(gait, creature)
     except GaitFileError as err:
         shipped = ", ".join(creature.gaits)
         raise SetupError(f"{err}; {creature.name}'s shipped gaits: {shipped}") from None
-    return found.params, str(gait), found.maneuver
+    return found.params, str(gait), found.maneuver, found.free_period
 
 
 def run_creature(run_dir) -> tuple[Run, Creature]:

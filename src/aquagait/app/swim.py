@@ -62,6 +62,7 @@ class SwimSetup:
         fps: frames per second recorded.
         maneuver: the manoeuvre the gait swims (its parameterization: ``spec``).
         look: how its video is drawn (``aquagait.app.render.picture_look``).
+        free_period: the gait's period is among its parameters (``spec``).
     """
 
     creature: Creature
@@ -73,11 +74,12 @@ class SwimSetup:
     fps: float = FRAMES_PER_SECOND
     maneuver: str = "straight"
     look: dict = field(default_factory=dict)
+    free_period: bool = False
 
     @property
     def spec(self):
         """The gait's parameterization (``Creature.spec``)."""
-        return self.creature.spec(self.maneuver)
+        return self.creature.spec(self.maneuver, self.free_period)
 
     @property
     def period(self) -> float:
@@ -142,6 +144,7 @@ def prepare_swim(
         creature = find_creature(name)
     except SetupError as err:
         raise SwimSetupError(str(err)) from None
+    free_period = False
     if maneuver is not None:
         if gait is not None:
             raise SwimSetupError("give a gait or a manoeuvre, not both")
@@ -152,7 +155,7 @@ def prepare_swim(
         source = f"shipped {maneuver}"
     elif isinstance(gait, str | Path):
         try:
-            params, source, maneuver = find_gait(creature, gait)
+            params, source, maneuver, free_period = find_gait(creature, gait)
         except SetupError as err:
             raise SwimSetupError(str(err)) from None
     else:
@@ -176,7 +179,7 @@ def prepare_swim(
     except SetupError as err:
         raise SwimSetupError(str(err)) from None
     return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver,
-                     look)  # fmt: skip
+                     look, free_period)  # fmt: skip
 
 
 def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
@@ -191,7 +194,7 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
             the body outgrew the grid; time and place in the message).
     """
     creature, scene = setup.creature, setup.scene
-    policy = creature.policy(setup.params, setup.maneuver)
+    policy = creature.servo(setup.spec.unpack(setup.params))
     steps = {} if setup.dt is None else {"dt": setup.dt}
     with growth_notes() as grew:
         trajectory = rollout(scene, init_state(scene), policy, setup.seconds, fps=setup.fps,
@@ -284,7 +287,8 @@ def write_swim(run: SwimRun, out, video: bool = False, extra_config=None, progre
     notes = [*run.grid_notes, *run.notes]
     config = {**run.config, "notes": notes, **(extra_config or {})}
     out = write_run(out, run.trajectory, config, run.metrics, model=creature.model)
-    write_gait(out / "gait.json", creature, run.setup.params, run.setup.maneuver)
+    write_gait(out / "gait.json", creature, run.setup.params, run.setup.maneuver,
+               run.setup.free_period)  # fmt: skip
     if video:
         look = run.setup.look or picture_look(creature.model, default_view=creature.view)
         draw_swim(run.trajectory, creature.model, out / "swim.mp4", progress=progress, **look)

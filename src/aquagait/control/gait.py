@@ -16,6 +16,10 @@ vector ``x`` that CMA-ES sees drives them:
 - ``held`` DOFs do not beat: they hold an offset only (amplitude 0), a
   rudder a manoeuvre learns to set (the 2D turtle's rear flipper).
 
+``with_free_period`` frees one period for every DOF (the paper's future work,
+``aquagait optimize --free-period``): the gait keeps one rhythm, its frequency
+searched within ``FREE_PERIOD`` times the fixed period.
+
 Parameter names read ``amplitude[j1]`` or, when shared, ``amplitude``; the
 layout of ``x`` is: for each free kind in ``KINDS`` order, one entry (shared)
 or one per independent (not mirrored) DOF in ``dofs`` order; held DOFs only
@@ -25,7 +29,7 @@ have an ``offset`` entry.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -36,6 +40,10 @@ DEFAULT_BOUNDS = {
     "period": (0.5, 2.0),  # s
     "offset": (-0.5, 0.5),  # rad
 }
+
+FREE_PERIOD = (0.5, 2.0)
+"""A freed period's search bounds, as multiples of the gait's fixed period (unless the
+gait states its own period bounds): from twice the frequency to half of it."""
 
 
 @dataclass(frozen=True)
@@ -222,6 +230,25 @@ class GaitSpec:
         members = set(groups[group])
         dof_of = [n[n.index("[") + 1 : -1] if "[" in n else None for n in self.names]
         return np.array([i for i, d in enumerate(dof_of) if d is None or d in members], dtype=int)
+
+    @property
+    def free_period(self) -> bool:
+        """Whether the gait's period is a parameter (one for all DOFs, or one each)."""
+        return "period" in self.free
+
+    def with_free_period(self) -> GaitSpec:
+        """The same parameterization with one period for every DOF set free, within
+        ``FREE_PERIOD`` times ``period`` unless ``bounds`` states the period's.
+
+        Raises:
+            ValueError: the period is free already.
+        """
+        if self.free_period:
+            raise ValueError(f"the gait's period is free already (free kinds: {self.free})")
+        bounds = dict(self.bounds)
+        bounds.setdefault("period", tuple(share * self.period for share in FREE_PERIOD))
+        free = tuple(k for k in KINDS if k in self.free or k == "period")
+        return replace(self, free=free, shared=self.shared + ("period",), bounds=bounds)
 
     # --- vector <-> sines -----------------------------------------------------
     def unpack(self, x) -> SineGait:

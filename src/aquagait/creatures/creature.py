@@ -49,10 +49,13 @@ class ShippedGait:
         provenance: how it was made: ``method`` ('hand-set' or 'optimized'),
             ``command``, ``seed``, ``grid``, ``objective``, ``wall_time``,
             ``date``, ... (free-form; see ``aquagait.creatures.metadata``).
+        free_period: its period is a parameter too (``spec(..., free_period=True)``): a
+            gait found with ``aquagait optimize --free-period``.
     """
 
     params: np.ndarray
     provenance: Mapping[str, object] = field(default_factory=dict)
+    free_period: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,7 +111,7 @@ class Creature:
         object.__setattr__(self, "resolution", tuple(int(n) for n in self.resolution))
         object.__setattr__(self, "gaits", dict(self.gaits))
         object.__setattr__(self, "notes", tuple(self.notes))
-        object.__setattr__(self, "_specs", {STRAIGHT: self.gait})  # by manoeuvre, as asked
+        object.__setattr__(self, "_specs", {(STRAIGHT, False): self.gait})  # as asked
         problems = creature_problems(self)
         if problems:
             raise CreatureError(f"creature {self.name!r}: " + "; ".join(problems))
@@ -121,11 +124,23 @@ class Creature:
         """Joint limits (lower, upper) of the DOFs of ``spec(maneuver)``, each (n,) [rad]."""
         return dof_limits(self.model, self.spec(maneuver).dofs)
 
-    def spec(self, maneuver: str = STRAIGHT) -> GaitSpec:
-        """The gait parameterization manoeuvre ``maneuver`` is learned in (``maneuver_spec``)."""
-        if maneuver not in self._specs:
-            self._specs[maneuver] = maneuver_spec(self.gait, self.model, maneuver)
-        return self._specs[maneuver]
+    def spec(self, maneuver: str = STRAIGHT, free_period: bool = False) -> GaitSpec:
+        """The gait parameterization manoeuvre ``maneuver`` is learned in (``maneuver_spec``);
+        with ``free_period``, its period a parameter too (``GaitSpec.with_free_period``;
+        the same spec if the side-car frees the period already)."""
+        key = (maneuver, free_period)
+        if key not in self._specs:
+            spec = maneuver_spec(self.gait, self.model, maneuver)
+            if free_period and not spec.free_period:
+                spec = spec.with_free_period()
+            self._specs[key] = spec
+        return self._specs[key]
+
+    def shipped_spec(self, name: str) -> GaitSpec:
+        """The parameterization of shipped gait ``name``: its manoeuvre's (``straight`` for
+        a gait kept for reference), with its period free if it was searched so."""
+        maneuver = name if name in MANEUVERS else STRAIGHT
+        return self.spec(maneuver, self.gaits[name].free_period)
 
     @property
     def maneuvers(self) -> tuple[str, ...]:
@@ -148,11 +163,11 @@ class Creature:
             )
         return self.gaits[maneuver].params
 
-    def policy(self, params=None, maneuver: str = STRAIGHT) -> StablePD:
-        """The stable PD servo tracking gait ``params`` of ``spec(maneuver)``
+    def policy(self, params=None, maneuver: str = STRAIGHT, free_period: bool = False) -> StablePD:
+        """The stable PD servo tracking gait ``params`` of ``spec(maneuver, free_period)``
         (default: the manoeuvre's learned gait, straight: ``default_gait``)."""
         x = self.maneuver_gait(maneuver) if params is None else params
-        return self.servo(self.spec(maneuver).unpack(x))
+        return self.servo(self.spec(maneuver, free_period).unpack(x))
 
     def servo(self, gait) -> StablePD:
         """The stable PD servo, with this creature's gains, tracking ``gait`` (a ``SineGait``
@@ -207,10 +222,12 @@ def maneuver_spec(spec: GaitSpec, model: Model, maneuver: str) -> GaitSpec:
     )  # fmt: skip
 
 
-def maneuver_start(creature: Creature, maneuver: str, gait: SineGait | None = None) -> np.ndarray:
+def maneuver_start(
+    creature: Creature, maneuver: str, gait: SineGait | None = None, free_period: bool = False
+) -> np.ndarray:
     """Where a manoeuvre's search starts: ``gait`` (default the straight gait) in the
-    manoeuvre's parameters."""
-    spec = creature.spec(maneuver)
+    manoeuvre's parameters (``free_period``: the period among them)."""
+    spec = creature.spec(maneuver, free_period)
     gait = creature.gait.unpack(creature.default_gait) if gait is None else gait
     return spec.vector(gait.on(spec.dofs))
 
@@ -263,8 +280,7 @@ def creature_problems(c: Creature) -> list[str]:
         return [f"gait DOFs {missing} are not actuated DOFs of the model ({', '.join(actuated)})"]
     problems = []
     for label, x, spec in [("default gait", c.default_gait, c.gait)] + [
-        (f"shipped gait {name!r}", g.params, c.spec(name if name in MANEUVERS else STRAIGHT))
-        for name, g in c.gaits.items()
+        (f"shipped gait {name!r}", g.params, c.shipped_spec(name)) for name, g in c.gaits.items()
     ]:
         limits = dof_limits(c.model, spec.dofs)
         problems += [f"{label} {p}" for p in gait_problems(spec, x, *limits)]

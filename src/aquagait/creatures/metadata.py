@@ -106,7 +106,9 @@ The entries (units: rad, s, m, J; the paper's gait is
   DOF that is not mirrored). Every shipped gait is checked against the
   gait's parameterization; a manoeuvre's against its own
   (``creature.maneuver_spec``: the offsets freed, and for a turn the mirror
-  dropped);
+  dropped). A gait searched with its period free (``aquagait optimize
+  --free-period``) names ``period`` among its parameters (by name only), and
+  may not be ``straight`` or a manoeuvre, which share the gait's period;
   ``provenance`` is a free-form record of how it was made: ``method``
   ('hand-set' or 'optimized'), ``command``, ``seed``, ``grid``, ``objective``,
   ``wall_time`` [s], ``date``, anything else worth keeping.
@@ -276,13 +278,28 @@ def _shipped_gaits(model: Model, spec: GaitSpec, meta: Metadata) -> tuple[dict, 
     for name, entry in meta.gaits.items():
         where = at(at("gaits", name), "params")
         own = maneuver_spec(spec, model, name) if name in MANEUVERS else spec
+        free_period = _own_period(own, entry["params"])
+        if free_period and name in MANEUVERS:
+            problems.append(
+                f"{where}: a gait with its own period ('period' among its parameters, from "
+                f"aquagait optimize --free-period) is kept under another name than "
+                f"{', '.join(MANEUVERS)}: those share the gait's period of {spec.period:g} s, "
+                "as the path follower switches between them at whole cycles"
+            )
+            continue
+        own = own.with_free_period() if free_period else own
         x, wrong = _params(own, entry["params"], where)
         if not wrong:
             limits = dof_limits(model, own.dofs)
             wrong = [f"{where}: the gait {p}" for p in gait_problems(own, x, *limits)]
         problems += wrong
-        gaits[name] = ShippedGait(x, entry["provenance"])
+        gaits[name] = ShippedGait(x, entry["provenance"], free_period)
     return gaits, problems
+
+
+def _own_period(spec: GaitSpec, params) -> bool:
+    """Whether shipped ``params`` (by name) set the period the gait ``spec`` fixes."""
+    return isinstance(params, dict) and "period" in params and not spec.free_period
 
 
 def _default_gait(model, spec, meta, gaits, notes) -> np.ndarray:

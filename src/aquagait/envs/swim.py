@@ -320,15 +320,14 @@ class SwimEnv(gym.Env):
         creature = self.creature
         spec, params = creature.gait, creature.default_gait
         if isinstance(gait, str | FilePath) and str(gait) in creature.gaits:
-            maneuver = str(gait) if str(gait) in creature.maneuvers else "straight"
-            spec, params = creature.spec(maneuver), creature.gaits[str(gait)].params
+            spec, params = creature.shipped_spec(str(gait)), creature.gaits[str(gait)].params
         elif isinstance(gait, str | FilePath):
             try:
                 found = read_gait(gait, creature)
             except GaitFileError as err:
                 shipped = ", ".join(creature.gaits) or "none"
                 raise ValueError(f"{err}; {creature.name}'s shipped gaits: {shipped}") from None
-            spec, params = creature.spec(found.maneuver), found.params
+            spec, params = creature.spec(found.maneuver, found.free_period), found.params
         elif gait is not None:
             params = np.asarray(gait, dtype=float)
             if params.shape != (spec.size,):

@@ -11,7 +11,8 @@
 x that CMA-ES searches (amplitudes and phases in rad, periods in s). The
 names make a file readable and catch a vector meant for another gait.
 ``maneuver`` (absent: ``straight``) says which parameterization the vector
-is in: a turn or a pitch has its offsets free (``Creature.spec``).
+is in: a turn or a pitch has its offsets free (``Creature.spec``); a gait
+searched with its period free (``--free-period``) names ``period`` among them.
 """
 
 from __future__ import annotations
@@ -40,19 +41,28 @@ class GaitFile:
     params: np.ndarray
     maneuver: str = STRAIGHT
 
+    @property
+    def free_period(self) -> bool:
+        """Whether its period is among its parameters (``Creature.spec``'s ``free_period``)."""
+        return "period" in self.names
 
-def write_gait(path, creature: Creature, params=None, maneuver: str = STRAIGHT) -> Path:
+
+def write_gait(
+    path, creature: Creature, params=None, maneuver: str = STRAIGHT, free_period: bool = False
+) -> Path:
     """Write ``params`` (default: the creature's ``default_gait``) as ``gait.json`` at ``path``.
 
     Args:
         maneuver: the manoeuvre the gait swims, whose parameterization
             ``params`` is in (``Creature.spec``).
+        free_period: ``params`` sets the period too (``Creature.spec``).
 
     Raises:
         GaitFileError: ``params`` does not fit the creature's gait.
     """
     params = creature.default_gait if params is None else np.asarray(params, dtype=float)
-    gait = GaitFile(creature.name, tuple(creature.spec(maneuver).names), params, maneuver)
+    names = tuple(creature.spec(maneuver, free_period).names)
+    gait = GaitFile(creature.name, names, params, maneuver)
     _check_fits(gait, creature, source="the gait to write")
     return write_json(
         path,
@@ -104,7 +114,7 @@ def read_gait(path, creature: Creature | None = None) -> GaitFile:
 
 
 def _check_fits(gait: GaitFile, creature: Creature, source: str) -> None:
-    spec = creature.spec(gait.maneuver)
+    spec = creature.spec(gait.maneuver, gait.free_period)
     if gait.creature != creature.name:
         raise GaitFileError(f"{source} is a gait for {gait.creature!r}, not for {creature.name!r}")
     if gait.params.shape != (spec.size,):
