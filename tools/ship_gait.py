@@ -65,8 +65,11 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
     if opt.get("step") is not None:
         command += ["--step", f"{opt['step']:g}"]
     if opt.get("objective", "distance") != "distance":  # with what it was measured by
+        cycles = opt.get("cycles_per_sample") or opt["seconds_per_sample"] / config["period"]
         command += ["--objective", opt["objective"], "--min-speed", f"{opt['min_speed']:.6g}",
-                    "--cycles", f"{opt['seconds_per_sample'] / config['period']:g}"]  # fmt: skip
+                    "--cycles", f"{cycles:g}"]  # fmt: skip
+    if opt.get("free_period"):
+        command += ["--free-period"]
     metrics = json.loads((run / "metrics.json").read_text())
     return {
         "method": "optimized",

@@ -46,10 +46,18 @@ PITCHING = {
 attitude-keeping layer, or a search that sees more than two cycles) must right them."""
 
 
+ANIMAL_STROUHAL = (0.2, 0.4)
+"""Where fish and cetaceans cruise (Taylor, Nudds and Thomas 2003, Nature 425)."""
+
+EFFICIENT = sorted(n for n in ag.creatures.names() if "efficient" in ag.creatures.get(n).gaits)
+"""Creatures that ship an ``efficient`` gait (``aquagait optimize --objective efficiency``)."""
+
+
 @functools.cache
-def long_swim(name):
-    """The shipped gait's swim of ``CYCLES`` cycles from rest on the default grid."""
-    return run_swim(prepare_swim(name, seconds=float(CYCLES)))
+def long_swim(name, gait=None):
+    """The shipped gait's (default: straight) swim of ``CYCLES`` cycles from rest on the
+    default grid."""
+    return run_swim(prepare_swim(name, gait=gait, seconds=float(CYCLES)))
 
 
 def heading_change(creature, trajectory) -> float:
@@ -168,3 +176,30 @@ def test_the_propulsive_limbs_do_most_of_the_work(name, group):
     share = work[limbs].sum() / work.sum()
     print(f"{name}: group {group} does {100 * share:.1f}% of the work")
     assert share > 0.5
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", EFFICIENT)
+def test_an_efficient_gait_cruises_as_animals_do_and_cheaper_than_the_straight_one(name):
+    """The efficiency objective's gait (docs/library.md, "Economical gaits"): at cruise it
+    keeps the speed its search asked for (``--min-speed``, in its command) within 5 % (the
+    search measured two cycles of six, this the last of twenty), beats at a Strouhal number
+    animals cruise at, and costs less a metre than the straight gait."""
+    creature = ag.creatures.get(name)
+    run, straight = long_swim(name, "efficient"), long_swim(name)
+    m = run.metrics
+    command = creature.gaits["efficient"].provenance["command"].split()
+    min_speed = float(command[command.index("--min-speed") + 1])
+    print(f"{name} efficient: settled from cycle {m['settled_cycle']:.0f}, "
+          f"{m['cruise_speed']:.3f} m/s (asked {min_speed:.3f}), "
+          f"{m['cruise_body_lengths_per_cycle']:.3f} BL/cycle, St {m['cruise_strouhal']:.2f}, "
+          f"cost of transport {m['cruise_cost_of_transport']:.3g} against the straight "
+          f"gait's {straight.metrics['cruise_cost_of_transport']:.3g} J/(kg m)")  # fmt: skip
+    assert m["settled"] and m["cruise_speed"] >= 0.95 * min_speed
+    assert ANIMAL_STROUHAL[0] <= m["cruise_strouhal"] <= ANIMAL_STROUHAL[1]
+    assert m["cruise_cost_of_transport"] < straight.metrics["cruise_cost_of_transport"]
+    if name in ANGUILLIFORM | {"fish"}:
+        lags = np.angle(np.exp(1j * np.diff(joint_phases(creature, run.trajectory))))
+        envelope, _ = lateral_envelope(creature, run.trajectory)
+        assert np.all(lags < 0)  # still a wave travelling head to tail,
+        assert envelope[-1] == envelope.max()  # the tail sweeping widest
