@@ -10,9 +10,11 @@ The run directory's ``gait.json`` (the best sample), ``config.json`` (the
 optimization's settings: seed, grid, population, generations, the fluid's
 settings) and ``optimization.csv`` (the best objective and the wall time)
 become the gait's ``params`` and ``provenance``, so anyone can run the same
-command again and compare. The best gait's swim (``metrics.json``) adds its
-body lengths per cycle. Other gaits in the side-car are kept; a hand-set gait the new
-one replaces is kept as ``hand-set``.
+command again and compare (``tools/check_provenance.py`` does; the start is recorded by
+value too, as the shipped gait a command starts from by default may have been replaced
+since). The best gait's swim (``metrics.json``) adds its body lengths per cycle. Other
+gaits in the side-car are kept; a hand-set gait the new one replaces is kept as
+``hand-set``.
 """
 
 from __future__ import annotations
@@ -85,6 +87,9 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
         "wall_time": round(float(rows[-1]["elapsed"])),
         "body_lengths_per_cycle_from_rest": metrics.get("body_lengths_per_cycle_from_rest"),
         "rotation_vector": turned(run),
+        # where it started, by value: a start named by its shipped gait (the default, the
+        # straight gait) is replaced when that gait is optimized again
+        "start": dict(zip(opt["parameters"], opt["x0"], strict=True)),
         "aquagait": config.get("versions", {}).get("aquagait"),
         "date": datetime.now(UTC).date().isoformat(),
     }
