@@ -122,3 +122,28 @@ def test_gaits_over_different_dofs_are_all_driven_over_every_one(scene):
     (switch,) = handed
     assert switch.dofs == ("j1", "j2", "j3", "j4")
     np.testing.assert_allclose(switch.angles(0.3), [*straight.angles(0.3), 0.0, 0.0])
+
+
+@pytest.mark.parametrize("look_ahead, expected", [(1.0, "turn-left"), (0.0, "straight")])
+def test_on_the_outside_of_a_bend_it_reads_the_path_a_cycle_ahead(scene, look_ahead, expected):
+    """The eel outside a left circle of radius 0.6 m, 0.4 m on and 45 degrees left of its
+    start after one cycle: its heading has passed the tangent at the nearest point (32
+    degrees), so the nearest tangent says the path is coming back and the rule would swim
+    straight; but the circle bends away from it, and 0.4 m further on (as far as it swam
+    that cycle) the path heads 70 degrees left: keep turning."""
+    start, _ = root_pose(scene, ag.init_state(scene).qpos)
+    theta = np.linspace(-np.pi / 2, 3 * np.pi / 2, 721)  # from the start, turning left
+    circle = Path(start + 0.6 * np.c_[np.cos(theta), 1.0 + np.sin(theta)])
+    follower = Follower(scene, _library(), EEL.servo, circle, period=1.0, dead_band=0.05,
+                        lead=0.0, look_ahead=look_ahead)  # fmt: skip
+    state = ag.init_state(scene)
+    qpos = state.qpos.copy()
+    qpos[:2] = [0.0, -0.1]  # 0.1 m outside the circle, heading along it
+    follower(replace(state, qpos=qpos.copy()))
+    assert follower.decisions[0].maneuver == "turn-left"
+    qpos[:3] = [0.4, -0.05, np.pi / 4]  # where a cycle's turn took it
+    for time in np.arange(1, 31) / 30:  # its heading over the cycle, held: no lead to add
+        follower(replace(state, qpos=qpos.copy(), time=time))
+    decision = follower.decisions[1]
+    assert decision.offset[1] > 0.05  # the circle still lies to its left
+    assert decision.maneuver == expected

@@ -97,3 +97,15 @@ def test_progress_is_the_arc_length_to_the_nearest_point():
     assert corner.progress([-1.0, 0.0]) == 0.0 and corner.progress([1.0, 3.0]) == 2.0
     ring = circle(radius=1.0)
     assert ring.progress([1.2, 1.0]) == pytest.approx(np.pi / 2, rel=1e-3)  # a quarter round
+
+
+def test_the_point_and_tangent_at_an_arc_length():
+    path = Path(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0]]))
+    for arc, point, tangent in [(0.5, [0.5, 0.0], [1, 0]), (2.0, [2.0, 0.0], [0, 1]),
+                                (2.5, [2.0, 0.5], [0, 1]), (-1.0, [0.0, 0.0], [1, 0]),
+                                (9.0, [2.0, 1.0], [0, 1])]:  # fmt: skip
+        at, along = path.at(arc)
+        np.testing.assert_allclose(at, point, atol=1e-12)
+        np.testing.assert_allclose(along, tangent, atol=1e-12)
+        if 0 <= arc <= path.length:
+            assert path.progress(at) == pytest.approx(arc)

@@ -216,7 +216,9 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
                          ("final", distance[-1])):  # fmt: skip
         metrics[f"path_distance_{label}"] = float(value)
         metrics[f"path_distance_{label}_body_lengths"] = float(value / length)
-    progress = setup.path.progress(positions[-1])
+    progress = 0.0  # followed frame by frame: a closed path's end is its start again
+    for position in positions:
+        progress = setup.path.progress(position, around=progress, reach=length)
     metrics["path_progress"] = progress
     metrics["path_progress_body_lengths"] = progress / length
     unlearned = sum(d.unlearned for d in follower.decisions)

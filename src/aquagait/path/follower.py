@@ -26,6 +26,17 @@ an S-curve 3 m long and 0.4 m high): the pose itself at the cycle's start
 0.20/0.58; carried on by half a cycle 0.18/0.41, 0.29/0.85, 0.21/0.62 (by
 a whole cycle 0.49/1.09, 0.28/0.75, 0.43/1.23).
 
+The tangent is the path's one cycle's travel ahead of the nearest point
+(``LOOK_AHEAD``: as far along the path as the root moved over the cycle
+just swum), the rule's "is the path coming back towards the creature?"
+asked of where the creature will be when it next decides. At the nearest
+point itself, a path that curves away (the outside of a circle) looks as if
+it came back as soon as the heading has passed its tangent there, and the
+creature swims straight out of the bend: eel2d on the circle of radius 0.6
+m, its turns learned from its straight gait of 2026-12-04 (47 degrees a
+cycle), kept 0.81/1.39 body lengths from it with the nearest tangent, 0.23/
+0.57 half a cycle ahead and 0.14/0.46 a cycle ahead.
+
 A manoeuvre it has no gait for is swum straight (and counted in
 ``Decision.unlearned``), so a creature that has learned only some turns
 still follows as well as it can. A change of manoeuvre blends the reference
@@ -46,6 +57,10 @@ from aquagait.path.paths import Path
 from aquagait.path.rule import STRAIGHT, choose_maneuver, root_frame
 from aquagait.sim import Scene, State
 
+LOOK_AHEAD = 1.0
+"""Cycles of travel (the root's over the cycle just swum) by which the tangent the rule reads
+lies ahead of the path's nearest point (module docstring)."""
+
 LEAD = 0.5
 """Cycles by which the root's mean heading over the last cycle is carried on (its turn over
 that cycle continued): half a cycle brings the mean, which lags by half a cycle, to now."""
@@ -64,7 +79,8 @@ class Decision:
             is not learned).
         wanted: the manoeuvre the rule asked for.
         offset: (dim,) from the root to the nearest path point, in the root's frame [m].
-        tangent: (dim,) the path's unit tangent there, in the root's frame.
+        tangent: (dim,) the path's unit tangent a cycle's travel ahead of that point
+            (``LOOK_AHEAD``), in the root's frame.
     """
 
     time: float
@@ -116,6 +132,8 @@ class Follower:
         dead_band: ``eps`` of ``choose_maneuver`` [m].
         blend: share of a cycle over which a change of manoeuvre blends.
         lead: cycles by which the mean heading is carried on (``LEAD``).
+        look_ahead: cycles of travel by which the tangent lies ahead of the nearest
+            point (``LOOK_AHEAD``).
     """
 
     def __init__(
@@ -128,6 +146,7 @@ class Follower:
         dead_band: float,
         blend: float = BLEND,
         lead: float = LEAD,
+        look_ahead: float = LOOK_AHEAD,
     ):
         if STRAIGHT not in gaits:
             raise ValueError(f"the manoeuvre library needs a straight gait; has {sorted(gaits)}")
@@ -147,7 +166,8 @@ class Follower:
         self._next = None  # time of the next decision [s]
         self._rotations = []  # the root's rotation at every frame since the last decision
         self._last_mean = None  # the root's mean rotation over the cycle before
-        self.lead = float(lead)
+        self.lead, self.look_ahead = float(lead), float(look_ahead)
+        self._last_position = None  # the root's at the last decision
 
     def __call__(self, state: State):
         """The policy for the frame starting at ``state`` (a new decision at a cycle's start)."""
@@ -161,7 +181,11 @@ class Follower:
         return self._policy
 
     def _decide(self, state: State, position, rotation) -> None:
-        point, tangent = self.path.nearest(position)
+        point, _ = self.path.nearest(position)
+        travelled = 0.0 if self._last_position is None else np.linalg.norm(
+            position - self._last_position)  # fmt: skip
+        _, tangent = self.path.at(self.path.progress(position) + self.look_ahead * travelled)
+        self._last_position = position
         offset = root_frame(point - position, rotation)
         along = root_frame(tangent, rotation)
         wanted = choose_maneuver(offset, along, self.dead_band)
