@@ -26,10 +26,14 @@ def _follow(name, path, cycles, **options):
     return m
 
 
-@pytest.mark.parametrize("path", ["circle:radius=0.6", "s-curve:length=3,amplitude=0.4"])
-def test_the_eel_follows_a_circle_and_an_s_curve_within_half_a_body_length(path):
+@pytest.mark.parametrize("path, within", [("circle:radius=0.6", 0.2),
+                                          ("s-curve:length=3,amplitude=0.4", 0.5)])  # fmt: skip
+def test_the_eel_follows_a_circle_and_an_s_curve(path, within):
+    """Within a fifth of a body length of the circle on average (the library issue's
+    target: the paper's Figure 10 keeps the eel on it), half of the S-curve, which it
+    meets 50 degrees off its tangent at the first bend."""
     m = _follow("eel2d", path, 12)
-    assert m["path_distance_mean_body_lengths"] < 0.5
+    assert m["path_distance_mean_body_lengths"] < within
     assert m["path_progress_body_lengths"] > 4  # it went along, not round in place
 
 
