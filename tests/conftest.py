@@ -2,6 +2,7 @@
 
 import dataclasses
 
+import numpy as np
 import pytest
 
 import aquagait as ag
@@ -34,6 +35,19 @@ def hand_set_eel(eel):
     """eel2d swimming its hand-set travelling wave (the side-car's ``hand-set`` gait, its
     default until the optimized one shipped): for tests whose figures were measured with it."""
     return dataclasses.replace(eel, default_gait=eel.gaits["hand-set"].params)
+
+
+WIDE_EEL_GAIT = [0.44341793, 0.46879662, 0.57438825, 0.45675016,
+                 -0.58368707, -1.78715780, -2.48963701, 3.08331931]  # fmt: skip
+"""eel2d's optimized straight gait shipped from 2026-11-30 to 2026-12-04 (amplitudes, then
+phases [rad]): its widest pose is 0.17 m across."""
+
+
+@pytest.fixture(scope="session")
+def wide_eel(eel):
+    """eel2d swimming ``WIDE_EEL_GAIT``: for tests whose grid sizes were measured with it,
+    so that they do not move when the library's gait is optimized again."""
+    return dataclasses.replace(eel, default_gait=np.array(WIDE_EEL_GAIT))
 
 
 # A planar body: a 40 mm wide block and behind it a fin plate 2 mm thick, a fifth of a

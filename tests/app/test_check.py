@@ -124,12 +124,12 @@ def test_a_path_to_an_mjcf_file_is_checked(tmp_path, fin_plate):
     assert [row["name"] for row in report.numbers["links"]] == ["block", "fin"]
 
 
-def test_a_grid_that_holds_the_eel_at_rest_but_not_swimming_is_warned_about(eel_report):
-    """128x24 cells of 1 cm hold the straight eel (3.5 cm and 8 cells either side), not its
-    shipped gait, whose widest pose is 0.17 m across: the warning names the cells it needs."""
+def test_a_grid_that_holds_the_eel_at_rest_but_not_swimming_is_warned_about(eel_report, wide_eel):
+    """128x24 cells of 1 cm hold the straight eel (3.5 cm and 8 cells either side), not a
+    gait whose widest pose is 0.17 m across: the warning names the cells it needs."""
     assert eel_report.numbers["clearance"]["gait_room"] >= 8
     assert not any("too narrow" in w for w in eel_report.warnings)
-    narrow = dataclasses.replace(creatures.get("eel2d"), resolution=(128, 24))
+    narrow = dataclasses.replace(wide_eel, resolution=(128, 24))
     report = run_check(prepare_check(narrow))
     (warning,) = [w for w in report.warnings if "too narrow for the shipped gait" in w]
     box = report.numbers["clearance"]["gait_box"]

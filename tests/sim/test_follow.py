@@ -56,30 +56,30 @@ def test_the_body_never_comes_nearer_a_wall_than_the_clearance(eel):
     assert len(origins) >= 3  # the grid shifted at least twice
 
 
-def test_a_body_that_outgrows_the_grid_grows_it_and_swims_as_in_the_larger_grid(eel):
-    """The straight eel fits 16 cells of clearance plus its 2 cells of width; swimming, its
-    tail sweeps out more than that, and no shift can help: the grid grows (to 24, then 32
-    cells across) and says so. The 2-s swim then matches one on the 32-cell grid from the
-    start to round-off in the cells that count: 0.4654 against 0.4657 m (0.05%) and
+def test_a_body_that_outgrows_the_grid_grows_it_and_swims_as_in_the_larger_grid(wide_eel):
+    """The straight eel fits 16 cells of clearance plus its 2 cells of width; swimming (the
+    gait of ``wide_eel``), its tail sweeps out more than that, and no shift can help: the
+    grid grows (to 24, then 32 cells across) and says so. The 2-s swim then matches one
+    on the 32-cell grid from the start to round-off in the cells that count: 0.4654 against 0.4657 m (0.05%) and
     0.338 against 0.320 rad of heading (the first 0.14 s near closer walls); the bounds
     are the clearance test's 1% and, for the heading turned through, 0.03 rad."""
-    small = ag.make_scene(eel, (64, 18), 0.02, fluid="euler")
+    small = ag.make_scene(wide_eel, (64, 18), 0.02, fluid="euler")
     with pytest.warns(GridGrew, match=r"outgrew the 64x18 grid .* grew to 64x24") as grew:
-        traj = ag.rollout(small, ag.init_state(small), eel.policy(), 2.0)
+        traj = ag.rollout(small, ag.init_state(small), wide_eel.policy(), 2.0)
     assert any("grew to 64x32" in str(w.message) for w in grew)
     assert traj.fluid.shape == (64, 32)  # frames before the growth padded with still water
     np.testing.assert_array_equal(traj.fluid.velocity[0][:, :, 24:], 0.0)
-    large = ag.make_scene(eel, (64, 32), 0.02, fluid="euler")
-    distance, heading = swim(eel, small, 2.0)
-    distance_large, heading_large = swim(eel, large, 2.0)
+    large = ag.make_scene(wide_eel, (64, 32), 0.02, fluid="euler")
+    distance, heading = swim(wide_eel, small, 2.0)
+    distance_large, heading_large = swim(wide_eel, large, 2.0)
     assert distance == pytest.approx(distance_large, rel=0.01)
     assert heading == pytest.approx(heading_large, abs=0.03)
 
 
-def test_a_grid_that_may_not_grow_stops_the_swim_with_the_size_it_needs(eel):
-    scene = ag.make_scene(eel, (64, 18), 0.02, fluid=EulerFluid(grow=False))
+def test_a_grid_that_may_not_grow_stops_the_swim_with_the_size_it_needs(wide_eel):
+    scene = ag.make_scene(wide_eel, (64, 18), 0.02, fluid=EulerFluid(grow=False))
     with pytest.raises(BodyOutsideGrid, match=r"no longer fits .* use at least 64x20 cells"):
-        swim(eel, scene, 2.0)
+        swim(wide_eel, scene, 2.0)
 
 
 def test_a_grid_too_small_for_the_creature_is_refused_with_the_smallest_that_would_do(eel):

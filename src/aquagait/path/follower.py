@@ -9,7 +9,8 @@
 of ``turn-left``, ``turn-right``, ``pitch-up``, ``pitch-down``), ``servo``
 turns a gait into the creature's PD servo. At the start of every cycle the
 follower takes the root link's position, the nearest path point and the
-path's tangent there in the root's frame, and applies ``choose_maneuver``.
+path's tangent (read a cycle ahead, below) in the root's frame, and applies
+``choose_maneuver``.
 The root's frame is its heading now, free of the sway within a cycle: its
 orientation averaged over the cycle just swum (the rotation nearest the
 mean of its rotation matrices, frame by frame), carried on by half of the

@@ -1,9 +1,10 @@
 """The path follower's choice of manoeuvre, once a cycle (paper §5, DESIGN.md §2.5).
 
 At the start of every gait cycle the follower takes the path's point ``p``
-nearest the creature's root and the path's tangent ``d`` there, both in the
-root's frame (x forward, y to the left, z up; in 2D x and y), and per axis
-of correction (y: turning, z: pitching) applies the paper's rule:
+nearest the creature's root and the path's tangent ``d`` (``Follower`` reads it
+a cycle's travel further along: ``follower.LOOK_AHEAD``), both in the root's
+frame (x forward, y to the left, z up; in 2D x and y), and per axis of
+correction (y: turning, z: pitching) applies the paper's rule:
 
 - the path lies to one side (``p_y > eps``) and does not come back towards
   the creature (``d_y > -eps``): turn that way (turn-left; mirrored for the
