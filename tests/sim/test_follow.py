@@ -60,9 +60,10 @@ def test_a_body_that_outgrows_the_grid_grows_it_and_swims_as_in_the_larger_grid(
     """The straight eel fits 16 cells of clearance plus its 2 cells of width; swimming (the
     gait of ``wide_eel``), its tail sweeps out more than that, and no shift can help: the
     grid grows (to 24, then 32 cells across) and says so. The 2-s swim then matches one
-    on the 32-cell grid from the start to round-off in the cells that count: 0.4654 against 0.4657 m (0.05%) and
-    0.338 against 0.320 rad of heading (the first 0.14 s near closer walls); the bounds
-    are the clearance test's 1% and, for the heading turned through, 0.03 rad."""
+    on the 32-cell grid from the start to round-off in the cells that count: 0.4654
+    against 0.4657 m (0.05%) and 0.338 against 0.320 rad of heading (the first 0.14 s near
+    closer walls); the bounds are the clearance test's 1% and, for the heading turned
+    through, 0.03 rad."""
     small = ag.make_scene(wide_eel, (64, 18), 0.02, fluid="euler")
     with pytest.warns(GridGrew, match=r"outgrew the 64x18 grid .* grew to 64x24") as grew:
         traj = ag.rollout(small, ag.init_state(small), wide_eel.policy(), 2.0)
