@@ -26,8 +26,7 @@ from pathlib import Path
 import numpy as np
 
 import aquagait as ag
-from aquagait.app import prepare_optimization
-from aquagait.cli import build_parser
+from aquagait.cli import build_parser, optimization_setup
 from aquagait.io import write_gait
 
 AGREE = 1e-3
@@ -36,27 +35,20 @@ pressure solve's tolerance (1e-4) moves a sample's objective by less."""
 
 
 def recorded_search(creature, provenance: dict, scratch: Path):
-    """The search a gait's provenance sets up (``aquagait.app.prepare_optimization``): its
+    """The search a gait's provenance sets up (``aquagait.cli.optimization_setup``): its
     command, started where it started (``provenance["start"]``, written to ``scratch``)
     when the command names no start, as the gait it starts from by default may have been
     replaced since (it changes the efficiency objective's unit)."""
     args = build_parser().parse_args(shlex.split(provenance["command"])[1:])
-    start = args.start
-    if start is None and "start" in provenance:
+    if args.start is None and "start" in provenance:
         names, values = zip(*provenance["start"].items(), strict=True)
         free_period = "period" in names
         if names != creature.spec(args.maneuver, free_period).names:
             raise SystemExit(f"{creature.name}: the recorded start's parameters are not "
                              f"those of its {args.maneuver} search")  # fmt: skip
-        start = write_gait(scratch / "start.json", creature, values, args.maneuver, free_period)
-    return prepare_optimization(
-        args.name, generations=args.generations, popsize=args.popsize, seed=args.seed,
-        resolution=args.resolution, cell_size=args.cell_size, maneuver=args.maneuver,
-        start=start, step=args.step, energy_weight=args.energy_weight,
-        max_evaluations=args.max_evaluations, patience=args.patience,
-        objective=args.objective, min_speed=args.min_speed, cycles=args.cycles,
-        free_period=args.free_period,
-    )  # fmt: skip
+        path = write_gait(scratch / "start.json", creature, values, args.maneuver, free_period)
+        args.start = str(path)
+    return optimization_setup(args)
 
 
 def check(name: str, gait: str) -> dict:

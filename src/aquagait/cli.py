@@ -204,30 +204,38 @@ def _cmd_render(args) -> int:
     return 0
 
 
+def optimization_setup(args):
+    """The search ``aquagait optimize``'s parsed ``args`` set up
+    (``aquagait.app.prepare_optimization``; raises its ``OptimizationSetupError``)."""
+    from aquagait.app import prepare_optimization
+
+    return prepare_optimization(
+        args.name,
+        generations=args.generations,
+        popsize=args.popsize,
+        seed=args.seed,
+        resolution=args.resolution,
+        cell_size=args.cell_size,
+        coarse=args.coarse,
+        refine_top=args.refine_top,
+        maneuver=args.maneuver,
+        start=args.start,
+        step=args.step,
+        energy_weight=args.energy_weight,
+        max_evaluations=args.max_evaluations,
+        patience=args.patience,
+        objective=args.objective,
+        min_speed=args.min_speed,
+        cycles=args.cycles,
+        free_period=args.free_period,
+    )
+
+
 def _cmd_optimize(args) -> int:
-    from aquagait.app import SetupError, output_directory, prepare_optimization
+    from aquagait.app import SetupError, output_directory
 
     try:
-        setup = prepare_optimization(
-            args.name,
-            generations=args.generations,
-            popsize=args.popsize,
-            seed=args.seed,
-            resolution=args.resolution,
-            cell_size=args.cell_size,
-            coarse=args.coarse,
-            refine_top=args.refine_top,
-            maneuver=args.maneuver,
-            start=args.start,
-            step=args.step,
-            energy_weight=args.energy_weight,
-            max_evaluations=args.max_evaluations,
-            patience=args.patience,
-            objective=args.objective,
-            min_speed=args.min_speed,
-            cycles=args.cycles,
-            free_period=args.free_period,
-        )
+        setup = optimization_setup(args)
         label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
         out = output_directory(args.out or Path("runs") / label)
     except SetupError as err:

@@ -163,11 +163,11 @@ class Creature:
             )
         return self.gaits[maneuver].params
 
-    def policy(self, params=None, maneuver: str = STRAIGHT, free_period: bool = False) -> StablePD:
-        """The stable PD servo tracking gait ``params`` of ``spec(maneuver, free_period)``
+    def policy(self, params=None, maneuver: str = STRAIGHT) -> StablePD:
+        """The stable PD servo tracking gait ``params`` of ``spec(maneuver)``
         (default: the manoeuvre's learned gait, straight: ``default_gait``)."""
         x = self.maneuver_gait(maneuver) if params is None else params
-        return self.servo(self.spec(maneuver, free_period).unpack(x))
+        return self.servo(self.spec(maneuver).unpack(x))
 
     def servo(self, gait) -> StablePD:
         """The stable PD servo, with this creature's gains, tracking ``gait`` (a ``SineGait``
