@@ -125,10 +125,13 @@ PATH_UNITS = {
     "path_progress": "m",
     "path_progress_body_lengths": "1",
     "unlearned_requests": "1",
+    "path_finished": "1",
+    "path_followed_seconds": "s",
 }
 """The unit of each entry a path following adds (``aquagait.app.follow``): the root's
-distance to the path over the frames, how far along it got, cycles swum straight for want
-of a learned manoeuvre."""
+distance to the path over the frames until it reached the path's end (``final``: at that
+frame, or the last), how far along it got, cycles swum straight for want of a learned
+manoeuvre, whether it reached the end and after how long."""
 
 STILL = 1e-9
 """Displacements below this many body lengths are rounding noise: the body did not move."""

@@ -143,3 +143,24 @@ def test_follow_snapshots_are_whole_cycles_apart_and_a_slow_swimmer_is_not_drawn
     assert snapshot_every(run(3 * SNAPSHOTS, 100.0)) == 3 * 15  # no more than SNAPSHOTS
     assert snapshot_every(run(20, 2.8)) == 6 * 15  # 0.14 BL a cycle: 0.84 BL apart
     assert snapshot_every(run(4, 0.0)) == 4 * 15  # nowhere: the first and last frames
+
+
+def test_the_following_ends_where_the_root_first_reaches_the_paths_end():
+    """Distances count until then: past a line's end, or round a circle's lap and on, there
+    is nothing left to follow."""
+    from aquagait.app.follow import _end_frame, _progress
+
+    line = ag.path.shape("line", dim=2, length=1.0)
+    along = np.linspace(0.0, 1.5, 16)  # 0.1 m a frame
+    positions = np.stack([along, np.full_like(along, 0.05)], axis=1)
+    progress = _progress(line, positions, body_length=0.5)
+    assert _end_frame(line, progress) == 10  # x = 1.0 m
+    short = positions[:8]
+    assert _end_frame(line, _progress(line, short, body_length=0.5)) == 7  # not reached
+
+    circle = ag.path.shape("circle", dim=2, radius=1.0)
+    angle = np.linspace(0.0, 2.4 * np.pi, 49)  # 1.2 laps, 0.05 of a lap a frame
+    centre = circle.points[0] + [0.0, 1.0]  # it starts at the root, turning left
+    positions = centre + 1.02 * np.stack([np.sin(angle), -np.cos(angle)], axis=1)
+    progress = _progress(circle, positions, body_length=0.5)
+    assert _end_frame(circle, progress) == 40  # one lap, not the start read as its end

@@ -212,15 +212,18 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
     distance = np.array([setup.path.distance(p) for p in positions])
     metrics = travel_metrics(creature.model, trajectory, setup.period)
     length = creature.model.body_length
-    for label, value in (("mean", distance.mean()), ("max", distance.max()),
-                         ("final", distance[-1])):  # fmt: skip
+    progress = _progress(setup.path, positions, length)
+    end = _end_frame(setup.path, progress)
+    followed = distance[: end + 1]
+    for label, value in (("mean", followed.mean()), ("max", followed.max()),
+                         ("final", followed[-1])):  # fmt: skip
         metrics[f"path_distance_{label}"] = float(value)
         metrics[f"path_distance_{label}_body_lengths"] = float(value / length)
-    progress = 0.0  # followed frame by frame: a closed path's end is its start again
-    for position in positions:
-        progress = setup.path.progress(position, around=progress, reach=length)
-    metrics["path_progress"] = progress
-    metrics["path_progress_body_lengths"] = progress / length
+    metrics["path_progress"] = float(progress[-1])
+    metrics["path_progress_body_lengths"] = float(progress[-1] / length)
+    finished = end < len(positions) - 1
+    metrics["path_finished"] = bool(finished)
+    metrics["path_followed_seconds"] = float(trajectory.time[end] - trajectory.time[0])
     unlearned = sum(d.unlearned for d in follower.decisions)
     metrics["unlearned_requests"] = unlearned
     notes = tuple(grew)
@@ -228,8 +231,29 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
         wanted = sorted({d.wanted for d in follower.decisions if d.unlearned})
         notes += (f"{unlearned} cycle(s) asked for {', '.join(wanted)}, not learned: "
                  "swum straight instead",)  # fmt: skip
+    if finished:
+        notes += (f"reached the path's end at {trajectory.time[end]:.3g} s, "
+                  f"{setup.seconds - trajectory.time[end]:.3g} s before the swim's: the "
+                  "distances to the path are measured until then",)  # fmt: skip
     config = follow_config(setup, trajectory)
     return FollowRun(setup, trajectory, follower.decisions, distance, metrics, config, notes)
+
+
+def _progress(path: Path, positions, body_length: float) -> np.ndarray:
+    """How far along ``path`` [m] each of the root's ``positions`` (frames, dim) lies, followed
+    frame by frame (within a body length of the frame before): a closed path's end is its
+    start again, and a lap is not read as its start."""
+    progress, along = np.empty(len(positions)), 0.0
+    for k, position in enumerate(positions):
+        along = progress[k] = path.progress(position, around=along, reach=body_length)
+    return progress
+
+
+def _end_frame(path: Path, progress) -> int:
+    """The frame at which the root first reached the path's end (the last frame if it did
+    not): beyond it, the creature has no path left to follow."""
+    reached = np.flatnonzero(progress >= path.length * (1 - 1e-9))
+    return int(reached[0]) if len(reached) else len(progress) - 1
 
 
 def follow_config(setup: FollowSetup, trajectory: Trajectory) -> dict:
