@@ -212,15 +212,15 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
     distance = np.array([setup.path.distance(p) for p in positions])
     metrics = travel_metrics(creature.model, trajectory, setup.period)
     length = creature.model.body_length
-    progress = _progress(setup.path, positions, length)
-    end = _end_frame(setup.path, progress)
+    along = _progress(setup.path, positions, length)  # not the callback ``progress``
+    end = _end_frame(setup.path, along)
     followed = distance[: end + 1]
     for label, value in (("mean", followed.mean()), ("max", followed.max()),
                          ("final", followed[-1])):  # fmt: skip
         metrics[f"path_distance_{label}"] = float(value)
         metrics[f"path_distance_{label}_body_lengths"] = float(value / length)
-    metrics["path_progress"] = float(progress[-1])
-    metrics["path_progress_body_lengths"] = float(progress[-1] / length)
+    metrics["path_progress"] = float(along[-1])
+    metrics["path_progress_body_lengths"] = float(along[-1] / length)
     finished = end < len(positions) - 1
     metrics["path_finished"] = bool(finished)
     metrics["path_followed_seconds"] = float(trajectory.time[end] - trajectory.time[0])
