@@ -45,7 +45,7 @@ def follow_path(creature, path, cycles: int = 10, out=None, video: bool = False,
         out: a run directory to write (``aquagait.app.follow.write_follow``), or None.
         video: with ``out``, also the video with the path and the picture of the way.
         **options: ``learned``, ``resolution``, ``cell_size``, ``dead_band``,
-            ``blend``, ``open_loop``, ``fps``, ``fluid``
+            ``blend``, ``open_loop``, ``fps``, ``fluid``, ``steer``
             (``aquagait.app.follow.prepare_follow``).
 
     Returns:

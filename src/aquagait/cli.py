@@ -158,6 +158,7 @@ def _cmd_follow(args) -> int:
             cell_size=args.cell_size,
             dead_band=args.dead_band,
             open_loop=args.open_loop,
+            steer=args.steer,
         )
         mode = "open-loop" if args.open_loop else "follow"
         out = output_directory(args.out or Path("runs") / f"{setup.creature.name}-{mode}")
@@ -627,8 +628,14 @@ def build_parser() -> argparse.ArgumentParser:
                         help="manoeuvres learned by aquagait optimize --maneuver (run "
                         "directories or gait.json), beside the shipped ones")  # fmt: skip
     follow.add_argument("--dead-band", type=float, metavar="M",
-                        help="distance from the path [m] within which it swims straight "
-                        "(default: a tenth of a body length)")  # fmt: skip
+                        help="distance from the path [m] within which the paper's rule "
+                        "swims straight (--steer paper, and graded steering's first "
+                        "cycle; default: a tenth of a body length)")  # fmt: skip
+    follow.add_argument("--steer", choices=("graded", "paper"), default="graded",
+                        help="graded (default): a share of a manoeuvre mixed into the "
+                        "straight gait, by how far the path ahead bears off the heading; "
+                        "paper: one whole manoeuvre a cycle, or straight (the paper's "
+                        "rule)")  # fmt: skip
     follow.add_argument(
         "--open-loop",
         action="store_true",

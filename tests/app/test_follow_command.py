@@ -30,8 +30,11 @@ def learned(tmp_path_factory):
     return files
 
 
-def _follow(path, learned, **options):
-    return prepare_follow("eel2d", path, cycles=2, learned=learned, fluid="none", **options)
+def _follow(path, learned, steer="paper", **options):
+    """In a vacuum the hand-set turns hardly turn (turn-left even turns right a little): the
+    paper's rule, which needs no measure of them."""
+    return prepare_follow("eel2d", path, cycles=2, learned=learned, fluid="none", steer=steer,
+                          **options)  # fmt: skip
 
 
 def test_a_shape_starts_at_the_root_and_the_run_records_the_way(tmp_path, learned):
@@ -164,3 +167,19 @@ def test_the_following_ends_where_the_root_first_reaches_the_paths_end():
     positions = centre + 1.02 * np.stack([np.sin(angle), -np.cos(angle)], axis=1)
     progress = _progress(circle, positions, body_length=0.5)
     assert _end_frame(circle, progress) == 40  # one lap, not the start read as its end
+
+
+def test_graded_steering_measures_each_turn_and_refuses_one_that_turns_the_wrong_way(learned):
+    """In a vacuum, with nothing to push against, only the body's change of shape turns it,
+    and the eel's hand-set turn-left (its straight gait bent 0.2 rad left) turns it 0.39 rad
+    to the right over two cycles from rest (in the simple fluid 0.74): graded steering
+    cannot steer with it. The shipped turns, learned in water, turn their ways in the
+    simple fluid too (0.48 rad a cycle), and the setup records both rates."""
+    with pytest.raises(FollowSetupError, match=r"turn-left turns -0.39\d* rad its way.*--steer"):
+        _follow("line", learned, steer="graded")
+    setup = prepare_follow("eel2d", "line", cycles=1, fluid="simple")
+    assert setup.steer == "graded"
+    assert set(setup.rates) == {"turn-left", "turn-right"}
+    assert all(0.1 < rate < 1.5 for rate in setup.rates.values())  # radians a cycle
+    assert prepare_follow("eel2d", "line", cycles=1, fluid="simple",
+                          open_loop=True).rates is None  # fmt: skip

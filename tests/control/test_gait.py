@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from aquagait.control import GaitSpec, SwitchedGait
+from aquagait.control import GaitSpec, SwitchedGait, mix
 
 DOFS = ("j1", "j2", "j3")
 
@@ -200,6 +200,23 @@ def test_a_switch_neither_jumps_the_angles_nor_their_rates():
     # rates are the derivative (away from the blend's ends, where the second derivative jumps)
     np.testing.assert_allclose(central[smooth], rates[1:-1][smooth], atol=1e-5)
     assert np.abs(np.diff(rates, axis=0)).max() < 1e-2  # and continuous: no kink
+
+
+def test_a_mix_is_the_weighted_sum_of_the_references_and_one_gait_whole_is_itself():
+    before, after = _pair()
+    half = mix([before, after], [0.7, 0.3])
+    np.testing.assert_allclose(_angles(half, TIMES),
+                               0.7 * _angles(before, TIMES) + 0.3 * _angles(after, TIMES),
+                               atol=1e-12)  # fmt: skip
+    rates = np.array([half.rates(t) for t in TIMES])
+    np.testing.assert_allclose(
+        rates, [0.7 * before.rates(t) + 0.3 * after.rates(t) for t in TIMES], atol=1e-12
+    )
+    assert mix([before, after], [0.0, 1.0]) is after
+    with pytest.raises(ValueError, match="one weight per gait"):
+        mix([before, after], [1.0])
+    with pytest.raises(ValueError, match="same DOFs"):
+        mix([before, GaitSpec(dofs=("b", "a")).unpack([0.1] * 4)], [0.5, 0.5])
 
 
 def test_a_switch_of_no_duration_jumps_and_bad_switches_are_refused():

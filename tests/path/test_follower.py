@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 
 import aquagait as ag
-from aquagait.control import GaitSpec
+from aquagait.control import GaitSpec, mix
 from aquagait.path import Follower, Path, root_pose
 from aquagait.path.follower import LEAD, lead, mean_rotation
+from aquagait.path.rule import GAIN
 
 EEL = ag.creatures.get("eel2d")
 
@@ -147,3 +148,40 @@ def test_on_the_outside_of_a_bend_it_reads_the_path_a_cycle_ahead(scene, look_ah
     decision = follower.decisions[1]
     assert decision.offset[1] > 0.05  # the circle still lies to its left
     assert decision.maneuver == expected
+
+
+def test_graded_it_mixes_a_share_of_the_turn_the_bearing_asks_for(scene):
+    """Its first cycle by the paper's rule (no travel to aim ahead by); then, with the eel
+    moved 0.3 m along a line that lies 0.1 m to its left, the aim point two cycles' travel
+    further on bears atan(0.1 / 0.6) off its heading: the share GAIN times that over the
+    turn's rate, and the gait handed over is that mix of straight and turn."""
+    handed = []
+
+    def servo(gait):
+        handed.append(gait)
+        return EEL.servo(gait)
+
+    start, _ = root_pose(scene, ag.init_state(scene).qpos)
+    line = Path(np.array([[-1.0, 0.1], [5.0, 0.1]]) + [0.0, start[1]])
+    library = _library()
+    follower = Follower(scene, library, servo, line, period=1.0, dead_band=0.05, lead=0.0,
+                        rates={"turn-left": 1.0, "turn-right": 1.0})  # fmt: skip
+    state = ag.init_state(scene)
+    follower(state)
+    assert follower.decisions[0].shares == {"turn-left": 1.0}  # the paper's rule: 0.1 > eps
+    qpos = state.qpos.copy()
+    qpos[0] += 0.3  # a cycle's travel, heading held along +x
+    for time in np.arange(1, 31) / 30:
+        follower(replace(state, qpos=qpos.copy(), time=time))
+    decision = follower.decisions[1]
+    share = GAIN * np.arctan2(0.1, 0.6) / 1.0
+    assert decision.maneuver == "turn-left"
+    assert decision.shares["turn-left"] == pytest.approx(share, rel=1e-6)
+    expected = mix([library["straight"], library["turn-left"]], [1 - share, share])
+    np.testing.assert_allclose(handed[-1].after.angles(1.6), expected.angles(1.6))
+
+
+def test_graded_steering_needs_positive_rates(scene):
+    with pytest.raises(ValueError, match="> 0 rad"):
+        Follower(scene, _library(), EEL.servo, _line(scene, 0.0), 1.0, 0.05,
+                 rates={"turn-left": 0.0})  # fmt: skip

@@ -2,7 +2,9 @@
 
 Run with ``python3 -m pytest -m slow tests/path/test_following_swims.py -s`` to
 see the figures of the issue: the eel on a circle and an S-curve, the 2D
-turtle open-loop and following a straight line, the manta on a vertical S.
+turtle open-loop and following a straight line, the manta on a vertical S;
+with graded steering (the default) and, for the eel's circle, the paper's rule.
+Distances are to the path until the creature reaches its end.
 """
 
 import pytest
@@ -18,7 +20,8 @@ def _follow(name, path, cycles, **options):
     counts = {}
     for d in run.decisions:
         counts[d.maneuver] = counts.get(d.maneuver, 0) + 1
-    print(f"{name} {'open loop' if options.get('open_loop') else 'following'} {path}, "
+    print(f"{name} {'open loop' if options.get('open_loop') else 'following'} {path} "
+          f"({options.get('steer', 'graded')}), "
           f"{cycles} cycles: distance to the path mean {m['path_distance_mean_body_lengths']:.3f}"
           f", max {m['path_distance_max_body_lengths']:.3f}, final "
           f"{m['path_distance_final_body_lengths']:.3f} body lengths; {counts}; "
@@ -26,13 +29,20 @@ def _follow(name, path, cycles, **options):
     return m
 
 
-@pytest.mark.parametrize("path, within", [("circle:radius=0.6", 0.2),
-                                          ("s-curve:length=3,amplitude=0.4", 0.5)])  # fmt: skip
-def test_the_eel_follows_a_circle_and_an_s_curve(path, within):
+@pytest.mark.parametrize(
+    "path, steer, within",
+    [
+        ("circle:radius=0.6", "graded", 0.2),
+        ("circle:radius=0.6", "paper", 0.2),
+        ("s-curve:length=3,amplitude=0.4", "graded", 0.3),
+    ],
+)
+def test_the_eel_follows_a_circle_and_an_s_curve(path, steer, within):
     """Within a fifth of a body length of the circle on average (the library issue's
-    target: the paper's Figure 10 keeps the eel on it), half of the S-curve, which it
-    meets 50 degrees off its tangent at the first bend."""
-    m = _follow("eel2d", path, 12)
+    target: the paper's Figure 10 keeps the eel on it; measured 0.09 graded, 0.12 by the
+    paper's rule), 0.3 of the S-curve, which it meets 50 degrees off its tangent at the
+    first bend (measured 0.22)."""
+    m = _follow("eel2d", path, 12, steer=steer)
     assert m["path_distance_mean_body_lengths"] < within
     assert m["path_progress_body_lengths"] > 4  # it went along, not round in place
 
@@ -47,7 +57,12 @@ def test_the_turtle_drifts_open_loop_and_holds_a_line_when_following():
 
 
 def test_the_manta_follows_a_vertical_s():
-    """The ray swims 0.2 body lengths a cycle: a 1 m S, 0.1 m high, takes it 20 cycles."""
+    """The ray swims 0.2 body lengths a cycle: a 1 m S, 0.1 m high, takes it 20 cycles.
+    Within a fifth of a body length of it on average, the library issue's target
+    (measured 0.02 graded, 0.17 by the paper's rule). Its pitches, learned from its
+    hand-set gait, travel 0.03 body lengths a cycle, and graded steering mixes some of one
+    into every cycle: it gets 2.0 body lengths along (2.3 by the paper's rule), enough to
+    say it went along and not round in place."""
     m = _follow("manta", "s-curve:length=1,amplitude=0.1,vertical=true", 20)
-    assert m["path_distance_mean_body_lengths"] < 0.5
-    assert m["path_progress_body_lengths"] > 2
+    assert m["path_distance_mean_body_lengths"] < 0.2
+    assert m["path_progress_body_lengths"] > 1.5

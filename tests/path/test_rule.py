@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from aquagait.path import choose_maneuver, root_frame
+from aquagait.path.rule import GAIN, graded_shares
 
 EPS = 0.05
 
@@ -56,3 +57,19 @@ def test_world_vectors_turn_into_the_root_frame():
     np.testing.assert_allclose(root_frame([0.0, 1.0], rot), [1.0, 0.0], atol=1e-12)  # ahead
     np.testing.assert_allclose(root_frame([-1.0, 0.0], rot), [0.0, 1.0], atol=1e-12)  # left
     np.testing.assert_allclose(root_frame([0.0, 0.0, 2.0], rot), [0.0, 0.0, 2.0], atol=1e-12)
+
+
+def test_graded_steering_asks_for_a_share_by_the_bearing_and_the_turns_rate():
+    rates = {"turn-left": 0.8, "turn-right": 0.5, "pitch-up": 0.2}
+    bearing = np.radians(10)
+    left = graded_shares((np.cos(bearing), np.sin(bearing)), rates)
+    assert left == pytest.approx({"turn-left": GAIN * bearing / 0.8})
+    right = graded_shares((np.cos(bearing), -np.sin(bearing)), rates)
+    assert right == pytest.approx({"turn-right": GAIN * bearing / 0.5})
+    assert graded_shares((1.0, 0.0), rates) == {}  # dead ahead: straight
+    assert graded_shares((-1.0, 0.1), rates) == {"turn-left": 1.0}  # behind: all of it
+    both = graded_shares((1.0, 1.0, 1.0), rates)  # in 3D both ask; their shares add to 1
+    assert both == pytest.approx({"turn-left": 0.5, "pitch-up": 0.5})
+    # an axis without a learned manoeuvre is left alone (the manta pitches only)
+    assert graded_shares((1.0, 0.01, -0.1), {"pitch-down": 0.2}) == pytest.approx(
+        {"pitch-down": min(GAIN * np.arctan(0.1) / 0.2, 1.0)})  # fmt: skip

@@ -14,11 +14,17 @@ creature faces. The manoeuvres are the creature's learned ones (its
 side-car's ``turn-left``, ``pitch-up``, ...) and any ``gait.json`` of
 ``aquagait optimize --maneuver`` given as ``learned``.
 
-At the start of every cycle the follower (``aquagait.path.Follower``) picks
-the manoeuvre by the paper's rule with a dead band of ``dead_band`` (by
-default a tenth of a body length) and blends the switch over a quarter of a
-cycle. ``open_loop`` swims the straight gait alone along the same path, to
-measure how far the creature drifts without following.
+At the start of every cycle the follower (``aquagait.path.Follower``) mixes
+a share of a manoeuvre into the straight gait, by how far the path ahead
+bears off the heading and how fast the manoeuvre turns (``steer="graded"``,
+the default: ``aquagait.path.rule``, which gives the figures that chose it);
+each manoeuvre's turn a cycle is measured first, by swimming it
+``RATE_CYCLES`` cycles from rest, as its search did (``turn_rates``). With
+``steer="paper"`` it picks one whole manoeuvre or straight by the paper's
+rule, with a dead band of ``dead_band`` (by default a tenth of a body
+length). Either way a switch blends over a quarter of a cycle. ``open_loop``
+swims the straight gait alone along the same path, to measure how far the
+creature drifts without following.
 """
 
 from __future__ import annotations
@@ -37,7 +43,7 @@ from aquagait.creatures.creature import STRAIGHT
 from aquagait.io.gait import GaitFileError, read_gait
 from aquagait.io.run import write_run
 from aquagait.metrics import travel_metrics
-from aquagait.objectives import MANEUVERS
+from aquagait.objectives import MANEUVERS, rotation_vector
 from aquagait.path import BLEND, Decision, Follower, Path, PathError, parse_path, root_pose
 from aquagait.sim import (
     FRAMES_PER_SECOND,
@@ -61,6 +67,14 @@ SNAPSHOT_SPACING = 0.75
 NEEDED = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
 """Per axis across the root frame (y, z), the manoeuvres that correct it."""
 
+STEERING = ("paper", "graded")
+"""How the follower turns: the paper's rule (one whole manoeuvre a cycle, or straight) or
+graded (a share of a manoeuvre mixed into the straight gait: ``aquagait.path.rule``)."""
+
+RATE_CYCLES = 2
+"""Cycles from rest over which graded steering measures each manoeuvre's turn (a
+manoeuvre's search swims two)."""
+
 
 class FollowSetupError(SetupError):
     """A path cannot be followed: a bad path, an unlearned manoeuvre, a bad grid or setting."""
@@ -82,6 +96,9 @@ class FollowSetup:
         blend: share of a cycle a switch blends over.
         open_loop: swim straight only (to measure the drift).
         fps: frames per second recorded.
+        steer: one of ``STEERING``.
+        rates: graded steering's ``{manoeuvre: its turn a cycle}`` [rad]
+            (``turn_rates``); None by the paper's rule or open loop.
     """
 
     creature: Creature
@@ -95,6 +112,8 @@ class FollowSetup:
     blend: float = BLEND
     open_loop: bool = False
     fps: float = FRAMES_PER_SECOND
+    steer: str = "graded"
+    rates: dict | None = None
 
     @property
     def seconds(self) -> float:
@@ -127,6 +146,7 @@ def prepare_follow(
     open_loop: bool = False,
     fps: float = FRAMES_PER_SECOND,
     fluid: str = "euler",
+    steer: str = "graded",
 ) -> FollowSetup:
     """Resolve a path following: creature, manoeuvres, path, scene.
 
@@ -144,12 +164,14 @@ def prepare_follow(
         open_loop: swim the straight gait only, to measure the drift.
         fps: frames per second recorded.
         fluid: 'euler', 'simple' or 'none' (``aquagait.make_scene``).
+        steer: 'graded' (the default) or 'paper' (the paper's rule): ``STEERING``.
 
     Raises:
         FollowSetupError: what is wrong and what would be right: the path (too
             few points, not numbers, the wrong dimension, far from the start),
             a manoeuvre the path needs that the creature has not learned (the
-            learned ones and the command that learns it), a bad grid or setting.
+            learned ones and the command that learns it), one that does not turn
+            its way (graded), a bad grid or setting.
     """
     try:
         creature = find_creature(name)
@@ -159,6 +181,8 @@ def prepare_follow(
         raise FollowSetupError(f"cycles must be a whole number >= 1, got {cycles!r}")
     if not 0 <= blend <= 1:
         raise FollowSetupError(f"blend is a share of a cycle in [0, 1], got {blend!r}")
+    if steer not in STEERING:
+        raise FollowSetupError(f"steer is one of {', '.join(STEERING)}; got {steer!r}")
     gaits = _library(creature, learned)
     if resolution is None:
         resolution = roomy_grid(creature.resolution)
@@ -180,8 +204,10 @@ def prepare_follow(
         _check_learned(creature, gaits, path, position, eps)
     spec, x, _ = gaits[STRAIGHT]
     period = float(np.max(spec.unpack(x).period))
+    graded = steer == "graded" and not open_loop
+    rates = turn_rates(creature, scene, _sines(gaits), period) if graded else None
     return FollowSetup(creature, scene, path, source, gaits, int(cycles), period, eps,
-                       float(blend), bool(open_loop), float(fps))  # fmt: skip
+                       float(blend), bool(open_loop), float(fps), steer, rates)  # fmt: skip
 
 
 def roomy_grid(resolution) -> tuple[int, ...]:
@@ -202,9 +228,8 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
     """
     creature, scene = setup.creature, setup.scene
     library = {STRAIGHT: setup.gaits[STRAIGHT]} if setup.open_loop else setup.gaits
-    sines = {name: spec.unpack(x) for name, (spec, x, _) in library.items()}
-    follower = Follower(scene, sines, creature.servo, setup.path, setup.period,
-                        setup.dead_band, setup.blend)  # fmt: skip
+    follower = Follower(scene, _sines(library), creature.servo, setup.path, setup.period,
+                        setup.dead_band, setup.blend, rates=setup.rates)  # fmt: skip
     with growth_notes() as grew:
         trajectory = rollout(scene, init_state(scene), None, setup.seconds, fps=setup.fps,
                              progress=progress, plan=follower)  # fmt: skip
@@ -237,6 +262,37 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
                   "distances to the path are measured until then",)  # fmt: skip
     config = follow_config(setup, trajectory)
     return FollowRun(setup, trajectory, follower.decisions, distance, metrics, config, notes)
+
+
+def turn_rates(creature: Creature, scene: Scene, sines: dict, period: float) -> dict[str, float]:
+    """Each manoeuvre's turn a cycle [rad], for graded steering: the root's rotation about
+    the manoeuvre's axis over ``RATE_CYCLES`` cycles from rest in ``scene`` (to its mean
+    orientation over the last, as the search measures it), per cycle.
+
+    Args:
+        sines: ``{manoeuvre: SineGait}``; ``straight`` is skipped.
+        period: the gait cycle [s].
+
+    Raises:
+        FollowSetupError: a manoeuvre that does not turn its way (learn it again, or
+            follow by the paper's rule).
+    """
+    rates = {}
+    for name, gait in sines.items():
+        if name == STRAIGHT:
+            continue
+        trajectory = rollout(scene, init_state(scene), creature.servo(gait),
+                             RATE_CYCLES * period)  # fmt: skip
+        axis = np.asarray(MANEUVERS[name][1], dtype=float)
+        turn = float(axis @ rotation_vector(creature.model, trajectory, period))
+        if not turn > 0:
+            raise FollowSetupError(
+                f"{creature.name}'s {name} turns {turn:.3g} rad its way over {RATE_CYCLES} "
+                "cycles from rest: graded steering needs each manoeuvre to turn its way. "
+                "Learn it again, or follow by the paper's rule (--steer paper)"
+            )
+        rates[name] = turn / RATE_CYCLES
+    return rates
 
 
 def _progress(path: Path, positions, body_length: float) -> np.ndarray:
@@ -272,6 +328,8 @@ def follow_config(setup: FollowSetup, trajectory: Trajectory) -> dict:
         "seconds": setup.seconds,
         "dead_band": setup.dead_band,
         "blend": setup.blend,
+        "steer": setup.steer,
+        "rates": setup.rates,
     })  # fmt: skip
 
 
@@ -292,10 +350,10 @@ def write_follow(run: FollowRun, out, video: bool = False, progress=None) -> Fil
     _write_csv(out / "path.csv", [f"{a}_m" for a in axes], run.setup.path.points)
     _write_csv(
         out / "maneuvers.csv",
-        ["cycle", "time_s", "maneuver", "wanted"]
+        ["cycle", "time_s", "maneuver", "wanted", "share"]
         + [f"offset_{a}_m" for a in axes] + [f"tangent_{a}" for a in axes],
-        [[k, d.time, d.maneuver, d.wanted, *d.offset, *d.tangent]
-         for k, d in enumerate(run.decisions)],
+        [[k, d.time, d.maneuver, d.wanted, d.shares.get(d.maneuver, 0.0), *d.offset,
+          *d.tangent] for k, d in enumerate(run.decisions)],
     )  # fmt: skip
     _write_csv(out / "path_distance.csv", ["time_s", "distance_m"],
                np.stack([run.trajectory.time, run.distance], axis=1))  # fmt: skip
@@ -342,6 +400,11 @@ def follow_summary(run: FollowRun, out=None) -> str:
 
 
 # --- what to follow, and with what -------------------------------------------
+
+
+def _sines(gaits: dict) -> dict:
+    """``{manoeuvre: SineGait}`` of a manoeuvre library ``{name: (spec, params, source)}``."""
+    return {name: spec.unpack(x) for name, (spec, x, _) in gaits.items()}
 
 
 def _library(creature: Creature, learned) -> dict:

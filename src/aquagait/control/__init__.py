@@ -4,7 +4,7 @@ Above ``sim`` in the layers: the simulation receives a policy object and never
 imports this package (see ``aquagait.sim`` for the seam).
 """
 
-from aquagait.control.gait import KINDS, GaitSpec, SineGait, SwitchedGait
+from aquagait.control.gait import KINDS, GaitSpec, SineGait, SwitchedGait, mix
 from aquagait.control.pd import PD, StablePD, gains, joint_angles
 
 __all__ = [
@@ -16,4 +16,5 @@ __all__ = [
     "SwitchedGait",
     "gains",
     "joint_angles",
+    "mix",
 ]

@@ -94,6 +94,40 @@ class SineGait:
                         pick(self.period, 1.0), pick(self.offset, 0.0))  # fmt: skip
 
 
+def mix(gaits, weights) -> SineGait:
+    """The gait whose references are ``sum_k w_k qbar_k(t)``: sines of one period sum to a
+    sine (their phasors ``a e^(i phi)`` add), so the mix is a ``SineGait`` itself.
+
+    With weights summing to 1 it lies between the gaits: ``mix([straight, turn], [1 - s,
+    s])`` is a share ``s`` of the turn (``aquagait.path.Follower``'s graded steering).
+    One gait at weight 1, the others at 0, is that gait itself.
+
+    Args:
+        gaits: ``SineGait``s driving the same DOFs in the same order, with the same periods.
+        weights: one number per gait.
+
+    Raises:
+        ValueError: no gaits, a weight count that differs, other DOFs or periods.
+    """
+    gaits, weights = list(gaits), np.asarray(weights, dtype=float)
+    if not gaits or weights.shape != (len(gaits),):
+        raise ValueError(f"a mix needs one weight per gait; got {len(gaits)} gaits and "
+                         f"weights {weights.tolist()}")  # fmt: skip
+    first = gaits[0]
+    for gait in gaits[1:]:
+        if tuple(gait.dofs) != tuple(first.dofs) or not np.allclose(gait.period, first.period):
+            raise ValueError(
+                f"a mix needs gaits on the same DOFs with the same periods; got "
+                f"{first.dofs} at {first.period} s and {gait.dofs} at {gait.period} s"
+            )
+    if np.count_nonzero(weights) == 1 and weights.max() == 1.0:
+        return gaits[int(np.argmax(weights))]  # one gait whole: itself, to the last bit
+    pairs = list(zip(weights, gaits, strict=True))
+    phasor = sum(w * g.amplitude * np.exp(1j * g.phase) for w, g in pairs)
+    offset = sum(w * g.offset for w, g in pairs)
+    return SineGait(first.dofs, np.abs(phasor), np.angle(phasor), first.period, offset)
+
+
 @dataclass(frozen=True)
 class SwitchedGait:
     """One gait handing over to another: the references blend over ``duration`` from ``start``.

@@ -38,6 +38,12 @@ m, its turns learned from its straight gait of 2026-12-04 (47 degrees a
 cycle), kept 0.81/1.39 body lengths from it with the nearest tangent, 0.23/
 0.57 half a cycle ahead and 0.14/0.46 a cycle ahead.
 
+Given the manoeuvres' ``rates`` (their turn a cycle), the follower steers
+graded instead (``rule.graded_shares``): it mixes a share of a manoeuvre into
+the straight gait (``control.mix``), chosen by the bearing of the path's
+point ``AIM`` cycles' travel ahead of the nearest one; at the first decision,
+with no travel yet to measure ahead by, it takes the paper's rule.
+
 A manoeuvre it has no gait for is swum straight (and counted in
 ``Decision.unlearned``), so a creature that has learned only some turns
 still follows as well as it can. A change of manoeuvre blends the reference
@@ -48,14 +54,14 @@ asked to jump.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from aquagait.control.gait import SineGait, SwitchedGait
+from aquagait.control.gait import SineGait, SwitchedGait, mix
 from aquagait.path.paths import Path
-from aquagait.path.rule import STRAIGHT, choose_maneuver, root_frame
+from aquagait.path.rule import STRAIGHT, choose_maneuver, graded_shares, root_frame
 from aquagait.sim import Scene, State
 
 LOOK_AHEAD = 1.0
@@ -69,6 +75,10 @@ that cycle continued): half a cycle brings the mean, which lags by half a cycle,
 BLEND = 0.25
 """Share of a cycle over which one manoeuvre's references hand over to the next."""
 
+AIM = 2.0
+"""Graded steering: cycles of travel (the root's over the cycle just swum) by which the
+point it steers towards lies ahead of the path's nearest point."""
+
 
 @dataclass(frozen=True)
 class Decision:
@@ -77,11 +87,13 @@ class Decision:
     Attributes:
         time: [s].
         maneuver: the manoeuvre swum from here (straight where the wanted one
-            is not learned).
+            is not learned); graded, the one of the largest share.
         wanted: the manoeuvre the rule asked for.
         offset: (dim,) from the root to the nearest path point, in the root's frame [m].
         tangent: (dim,) the path's unit tangent a cycle's travel ahead of that point
             (``LOOK_AHEAD``), in the root's frame.
+        shares: ``{manoeuvre: share}`` mixed into the straight gait (the rest of
+            it); by the paper's rule the one manoeuvre whole, straight none.
     """
 
     time: float
@@ -89,6 +101,7 @@ class Decision:
     wanted: str
     offset: np.ndarray
     tangent: np.ndarray
+    shares: Mapping[str, float] = field(default_factory=dict)
 
     @property
     def unlearned(self) -> bool:
@@ -135,6 +148,9 @@ class Follower:
         lead: cycles by which the mean heading is carried on (``LEAD``).
         look_ahead: cycles of travel by which the tangent lies ahead of the nearest
             point (``LOOK_AHEAD``).
+        rates: graded steering (module docstring): ``{manoeuvre: its turn a cycle}``
+            [rad], > 0; None: the paper's rule.
+        aim: graded steering's ``AIM``.
     """
 
     def __init__(
@@ -148,6 +164,8 @@ class Follower:
         blend: float = BLEND,
         lead: float = LEAD,
         look_ahead: float = LOOK_AHEAD,
+        rates: Mapping[str, float] | None = None,
+        aim: float = AIM,
     ):
         if STRAIGHT not in gaits:
             raise ValueError(f"the manoeuvre library needs a straight gait; has {sorted(gaits)}")
@@ -158,6 +176,9 @@ class Follower:
                 f"need period > 0 s, dead_band >= 0 m and blend in [0, 1]; got {period}, "
                 f"{dead_band}, {blend}"
             )
+        if rates is not None and not all(rate > 0 for rate in rates.values()):
+            raise ValueError(f"graded steering needs each manoeuvre's turn a cycle > 0 rad; "
+                             f"got {dict(rates)}")  # fmt: skip
         dofs = tuple(dict.fromkeys(d for gait in gaits.values() for d in gait.dofs))
         gaits = {name: gait.on(dofs) for name, gait in gaits.items()}  # a rudder's DOFs too
         self.scene, self.gaits, self.servo, self.path = scene, gaits, servo, path
@@ -168,7 +189,10 @@ class Follower:
         self._rotations = []  # the root's rotation at every frame since the last decision
         self._last_mean = None  # the root's mean rotation over the cycle before
         self.lead, self.look_ahead = float(lead), float(look_ahead)
+        self.rates = None if rates is None else dict(rates)
+        self.aim = float(aim)
         self._last_position = None  # the root's at the last decision
+        self._gait = None  # the gait swum since the last decision
 
     def __call__(self, state: State):
         """The policy for the frame starting at ``state`` (a new decision at a cycle's start)."""
@@ -185,17 +209,25 @@ class Follower:
         point, _ = self.path.nearest(position)
         travelled = 0.0 if self._last_position is None else np.linalg.norm(
             position - self._last_position)  # fmt: skip
-        _, tangent = self.path.at(self.path.progress(position) + self.look_ahead * travelled)
+        progress = self.path.progress(position)
+        _, tangent = self.path.at(progress + self.look_ahead * travelled)
         self._last_position = position
         offset = root_frame(point - position, rotation)
         along = root_frame(tangent, rotation)
-        wanted = choose_maneuver(offset, along, self.dead_band)
-        chosen = wanted if wanted in self.gaits else STRAIGHT
-        previous = self.decisions[-1].maneuver if self.decisions else chosen
-        self.decisions.append(Decision(state.time, chosen, wanted, offset, along))
-        gait = SwitchedGait(
-            self.gaits[previous], self.gaits[chosen], state.time, self.blend * self.period
-        )
-        self._policy = self.servo(gait)
+        if self.rates is None or travelled == 0.0:
+            wanted = choose_maneuver(offset, along, self.dead_band)
+            asked = {} if wanted == STRAIGHT else {wanted: 1.0}
+        else:
+            aim, _ = self.path.at(progress + self.aim * travelled)
+            asked = graded_shares(root_frame(aim - position, rotation), self.rates)
+            wanted = max(asked, key=asked.get) if asked else STRAIGHT
+        shares = {name: share for name, share in asked.items() if name in self.gaits}
+        chosen = max(shares, key=shares.get) if shares else STRAIGHT
+        self.decisions.append(Decision(state.time, chosen, wanted, offset, along, shares))
+        gait = mix([self.gaits[STRAIGHT], *(self.gaits[name] for name in shares)],
+                   [1.0 - sum(shares.values()), *shares.values()])  # fmt: skip
+        before = gait if self._gait is None else self._gait
+        self._policy = self.servo(SwitchedGait(before, gait, state.time, self.blend * self.period))
+        self._gait = gait
         start = 0.0 if self._next is None else self._next
         self._next = start + self.period * (1 + np.floor((state.time - start) / self.period))

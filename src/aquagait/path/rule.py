@@ -26,6 +26,30 @@ correction (y: turning, z: pitching) applies the paper's rule:
 
 The same for z with pitch-up and pitch-down. Where both axes ask for a
 correction (3D), the larger offset wins.
+
+Graded steering (``graded_shares``, ours; ``aquagait follow --steer graded``)
+mixes a share of a manoeuvre into the straight gait instead of swimming one
+whole: per axis, the share turns the heading towards an aim point on the path
+ahead (``Follower`` aims ``AIM`` cycles' travel further along than the
+nearest point), ``GAIN`` times the bearing to it over the next cycle, as a
+share of the manoeuvre's own turn a cycle (its ``rate``), at most 1. The
+paper's rule asks for a whole turn or none, once a cycle; a turn strong
+enough for the tight bends overshoots the gentle ones, and the creature
+weaves; one too weak lets a drifting straight gait run away. Measured with
+the gaits learned on 2026-12-04 and each manoeuvre's rate measured from rest
+(mean / max distance to the path in body lengths, until the path's end; by
+the paper's rule, then graded):
+
+- eel2d, circle of radius 0.6 m, 12 cycles: 0.12 / 0.38, 0.09 / 0.40;
+- eel2d, S-curve 3 m long and 0.4 m high, 12 cycles: 0.43 / 0.94, 0.22 /
+  0.61 (by the paper's rule with its older turn-right, which bites a cycle
+  later: 0.16 / 0.61);
+- turtle2d, line, 10 cycles: 0.43 / 1.12, 0.28 / 0.74;
+- manta, vertical S 1 m long and 0.1 m high, 20 cycles (its straight gait
+  and pitches learned before 2026-12-03): 0.17 / 0.34, 0.02 / 0.07.
+
+Gains 1.5 and 1 kept the eel as close (circle 0.09, 0.07; S-curve 0.21,
+0.22) but the turtle less (0.34 / 0.90, 0.46 / 1.14).
 """
 
 from __future__ import annotations
@@ -41,6 +65,10 @@ ALIGN = 0.25
 creature turns to align with it (14.5 degrees)."""
 _TOWARDS = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
 """Per root-frame axis, the manoeuvres towards its + and - side."""
+
+GAIN = 2.0
+"""Graded steering: the turn asked for over the next cycle, as a multiple of the bearing to
+the aim point (module docstring)."""
 
 
 def root_frame(vector, root_rotation) -> np.ndarray:
@@ -82,3 +110,35 @@ def choose_maneuver(offset, tangent, dead_band: float) -> str:
         elif abs(p) <= eps and abs(d) > ALIGN:
             wanted.append((0.0, positive if d > 0 else negative))
     return max(wanted)[1] if wanted else STRAIGHT
+
+
+def graded_shares(aim, rates, gain: float = GAIN) -> dict[str, float]:
+    """Graded steering's manoeuvres and their shares (module docstring).
+
+    Per axis of correction (y: turning, z: pitching), the bearing ``e`` of ``aim``
+    off the root's heading asks for ``gain * |e|`` of turn over the next cycle,
+    the share ``gain * |e| / rate`` of the manoeuvre towards it (at most 1). Where
+    both axes ask (3D) and their shares add past 1, both are scaled down to add to 1.
+
+    Args:
+        aim: (dim,) from the root to the aim point, in the root's frame [m].
+        rates: ``{manoeuvre: its turn a cycle}`` [rad], > 0, of the manoeuvres
+            learned; an axis whose manoeuvre has none is not corrected (the manta,
+            which pitches only, follows a vertical path that its sway leaves a
+            hair to one side).
+        gain: ``GAIN``.
+
+    Returns:
+        ``{manoeuvre: share}`` for each axis that asks, shares in (0, 1].
+    """
+    aim = np.asarray(aim, dtype=float)
+    shares = {}
+    for axis, (positive, negative) in _TOWARDS.items():
+        if axis >= len(aim) or aim[axis] == 0.0:
+            continue
+        bearing = np.arctan2(aim[axis], aim[0])
+        name = positive if bearing > 0 else negative
+        if name in rates:
+            shares[name] = min(gain * abs(bearing) / rates[name], 1.0)
+    total = sum(shares.values())
+    return {name: share / max(total, 1.0) for name, share in shares.items()}
