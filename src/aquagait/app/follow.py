@@ -379,18 +379,23 @@ def snapshot_every(run: FollowRun) -> int:
 
 
 def follow_summary(run: FollowRun, out=None) -> str:
-    """A few lines for people: how close it kept to the path, which manoeuvres it swam."""
+    """A few lines for people: how close it kept to the path, which manoeuvres it swam
+    (graded: in how many cycles, and their mean share there)."""
     m, setup = run.metrics, run.setup
     mean, top, final = (m[f"path_distance_{k}_body_lengths"] for k in ("mean", "max", "final"))
-    counts = {}
+    shares = {}
     for d in run.decisions:
-        counts[d.maneuver] = counts.get(d.maneuver, 0) + 1
-    mode = "open loop (straight only)" if setup.open_loop else "following"
+        shares.setdefault(d.maneuver, []).append(d.shares.get(d.maneuver, 1.0))
+    graded = setup.rates is not None
+    swum = [f"{name} x{len(s)}" + (f" (mean share {np.mean(s):.2f})"
+                                   if graded and name != STRAIGHT else "")
+            for name, s in shares.items()]  # fmt: skip
+    mode = "open loop (straight only)" if setup.open_loop else f"following ({setup.steer})"
     lines = [
         f"{setup.creature.name}, {mode}, {setup.cycles} cycles along {setup.path_source} "
         f"({setup.path.length:.3g} m): distance to the path mean {mean:.2f}, max {top:.2f}, "
         f"final {final:.2f} body lengths; {m['path_progress']:.3g} m along it",
-        "manoeuvres: " + ", ".join(f"{k} x{v}" for k, v in counts.items()),
+        "manoeuvres: " + ", ".join(swum),
         *run.notes,
     ]
     if out is not None:
