@@ -1,15 +1,18 @@
-"""06 - The eel follows a circle by choosing, every cycle, among its learned manoeuvres.
+"""06 - The eel follows a circle by mixing, every cycle, some of a learned turn into its gait.
 
 Shows path following (paper §5) through the Python API: the eel's manoeuvre
 library (straight and the turns it ships, learned with ``aquagait optimize
 eel2d --maneuver turn-left``), a path (a named shape placed at the eel's
-head), and the ``Follower``: a planner that ``rollout`` asks at every frame;
-at each cycle's start it looks at the nearest path point and the path's
-direction in the eel's own frame and picks straight, turn-left or
-turn-right, blending the switch over a quarter cycle. Prints the manoeuvre
-of every cycle and how far the eel kept from the path; writes the picture of
-its way (the path in red) and the video. The command line does the same:
-``aquagait follow eel2d --path circle:radius=0.6 --cycles 12``.
+head), each turn's rate (its turn a cycle, measured by swimming it from
+rest), and the ``Follower``: a planner that ``rollout`` asks at every frame;
+at each cycle's start it looks at the path ahead in the eel's own frame and
+mixes into the straight gait the share of turn-left or turn-right that
+turns towards it, blending the switch over a quarter cycle (without
+``rates``, the paper's rule: one whole manoeuvre or straight). Prints the
+manoeuvre and share of every cycle and how far the eel kept from the path;
+writes the picture of its way (the path in red) and the video. The command
+line does the same: ``aquagait follow eel2d --path circle:radius=0.6
+--cycles 12``.
 
 Run:  python examples/06_follow_a_path.py [--cycles 12] [--radius 0.6] [--out runs/ex06]
 (``--steps N`` swims N frames only, on a small grid, for a quick look.)
@@ -23,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 import aquagait as ag
+from aquagait.app.follow import turn_rates
 from aquagait.path import Follower, root_pose, shape
 from aquagait.path import Path as Route
 
@@ -43,14 +47,17 @@ def main(argv=None) -> None:
     path = Route(shape("circle", radius=args.radius).points + start)
     library = {m: eel.spec(m).unpack(eel.maneuver_gait(m)) for m in eel.maneuvers}
     print(f"eel2d has learned: {', '.join(library)}")
+    rates = turn_rates(eel, scene, library, period=1.0)
+    print("their turn a cycle: " + ", ".join(f"{m} {r:.2f} rad" for m, r in rates.items()))
     follower = Follower(scene, library, eel.servo, path, period=1.0,
-                        dead_band=0.1 * eel.model.body_length)  # fmt: skip
+                        dead_band=0.1 * eel.model.body_length, rates=rates)  # fmt: skip
     seconds = args.steps / 30 if quick else float(args.cycles)
     traj = ag.rollout(scene, ag.init_state(scene), None, seconds, plan=follower)
 
     distance = [path.distance(root_pose(scene, q)[0]) for q in traj.qpos]
     length = eel.model.body_length
-    print("manoeuvre per cycle: " + ", ".join(d.maneuver for d in follower.decisions))
+    chosen = [f"{d.maneuver} {d.shares.get(d.maneuver, 0.0):.2f}" for d in follower.decisions]
+    print("manoeuvre and share per cycle: " + ", ".join(chosen))
     print(f"distance to the path: mean {np.mean(distance) / length:.2f}, "
           f"max {np.max(distance) / length:.2f} body lengths")  # fmt: skip
 
