@@ -104,7 +104,8 @@ def _still_3d(trajectory, model, route, frames) -> np.ndarray:
     low = np.minimum(boxes[:, 0].min(0), route.min(0))
     high = np.maximum(boxes[:, 1].max(0), route.max(0))
     spread = high - low
-    view = "side-above" if spread[2] >= spread[1] else "top"
+    climb = np.ptp(route, axis=0)  # the path's own, not the body's: a manta's span is wide
+    view = "side-above" if climb[2] >= climb[1] else "top"
     width, height = SIZE_3D
     centre = (low + high) / 2
     camera = view_camera(view, centre, spread, width / height, fill=0.9)
