@@ -54,10 +54,12 @@ amplitudes) is not expressible (the metadata fixes one phase for every DOF,
 and a shoulder and wrist in phase make a poor foil); mirroring the rear
 flipper onto the front one (the paper's "symmetry") would beat the rear
 flipper as hard as the front one, which turtles do not do. Shipped
-``straight`` gait: optimized (``aquagait optimize turtle2d --generations 50
---seed 1 --popsize 16``, provenance in the side-car), from a hand-set start
-in which the wrist lags the shoulder by a quarter cycle, so the blade
-feathers like a heaving and pitching foil (the defaults below).
+``straight`` gait: optimized on 2026-12-04 (``aquagait optimize turtle2d
+--seed 1``, 60 generations, provenance in the side-car; amplitudes 0.48 and
+0.77 rad, the wrist leading the shoulder by 0.68 rad), from the gait optimized
+before it, itself from a hand-set start in which the wrist lags the shoulder
+by a quarter cycle, so the blade feathers like a heaving and pitching foil
+(the defaults below).
 
 ===============  ===================  ===============  =======  =============
 DOF              amplitude bounds     phase bounds     default  default phase
@@ -69,13 +71,14 @@ rear_knee        not driven (held at 0)
 ===============  ===================  ===============  =======  =============
 
 The hand-set start swims 0.19 body lengths per cycle from rest over 2 s, the
-optimized gait 0.33 (0.45 over 4 cycles). Open loop the side-view turtle
-pitches (about 20-30 deg over 4 cycles): the front flipper beats below the
-centre of mass, and, as in the paper (§7), a 2D turtle does not swim
-straight without path following; no attempt is made to trim it. Its learned
+optimized gait 0.39. Open loop the side-view turtle pitches (34 degrees nose
+down over its first three cycles): the front flipper beats below the centre
+of mass, and, as in the paper (§7), a 2D turtle does not swim straight
+without path following; no attempt is made to trim it. Its learned
 ``turn-left`` and ``turn-right`` (nose up and down in this side view: the
-offsets of the shoulder and wrist freed) let it hold a line with
-``aquagait follow turtle2d --path line``.
+front flipper's offsets freed, the rear flipper held as a rudder; 53 and 73
+degrees over two cycles from rest) let it hold a line with ``aquagait follow
+turtle2d --path line``.
 
 Default grid 64 x 64 cells of 25 mm: 1.6 x 1.6 m, 1.7 x 1.7 body lengths.
 Energy bound 5 m (L/T)^2 = 438 J over two cycles (the default,
