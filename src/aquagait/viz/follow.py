@@ -93,6 +93,14 @@ def _still_2d(trajectory, model, route, frames) -> np.ndarray:
     return np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
 
 
+def still_view(route) -> str:
+    """The 3D still's view of a path (points, 3): from the side and above when it climbs more
+    than it turns, else from above. The path's own extent decides, not the bodies': a
+    manta's span is wider than the vertical S it keeps to is high."""
+    climb = np.ptp(np.asarray(route, dtype=float), axis=0)
+    return "side-above" if climb[2] >= climb[1] else "top"
+
+
 def _still_3d(trajectory, model, route, frames) -> np.ndarray:
     from aquagait.body.meshes import link_meshes
     from aquagait.viz.camera import view_camera
@@ -104,8 +112,7 @@ def _still_3d(trajectory, model, route, frames) -> np.ndarray:
     low = np.minimum(boxes[:, 0].min(0), route.min(0))
     high = np.maximum(boxes[:, 1].max(0), route.max(0))
     spread = high - low
-    climb = np.ptp(route, axis=0)  # the path's own, not the body's: a manta's span is wide
-    view = "side-above" if climb[2] >= climb[1] else "top"
+    view = still_view(route)
     width, height = SIZE_3D
     centre = (low + high) / 2
     camera = view_camera(view, centre, spread, width / height, fill=0.9)
