@@ -159,6 +159,7 @@ def _cmd_follow(args) -> int:
             dead_band=args.dead_band,
             open_loop=args.open_loop,
             steer=args.steer,
+            progress=lambda maneuver: ProgressBar(f"measuring {maneuver}"),
         )
         mode = "open-loop" if args.open_loop else "follow"
         out = output_directory(args.out or Path("runs") / f"{setup.creature.name}-{mode}")

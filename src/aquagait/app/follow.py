@@ -147,6 +147,7 @@ def prepare_follow(
     fps: float = FRAMES_PER_SECOND,
     fluid: str = "euler",
     steer: str = "graded",
+    progress=None,
 ) -> FollowSetup:
     """Resolve a path following: creature, manoeuvres, path, scene.
 
@@ -165,6 +166,8 @@ def prepare_follow(
         fps: frames per second recorded.
         fluid: 'euler', 'simple' or 'none' (``aquagait.make_scene``).
         steer: 'graded' (the default) or 'paper' (the paper's rule): ``STEERING``.
+        progress: ``progress(manoeuvre) -> progress(done, total)``, for the swims that
+            measure graded steering's rates (``turn_rates``), or None.
 
     Raises:
         FollowSetupError: what is wrong and what would be right: the path (too
@@ -205,7 +208,7 @@ def prepare_follow(
     spec, x, _ = gaits[STRAIGHT]
     period = float(np.max(spec.unpack(x).period))
     graded = steer == "graded" and not open_loop
-    rates = turn_rates(creature, scene, _sines(gaits), period) if graded else None
+    rates = turn_rates(creature, scene, _sines(gaits), period, progress) if graded else None
     return FollowSetup(creature, scene, path, source, gaits, int(cycles), period, eps,
                        float(blend), bool(open_loop), float(fps), steer, rates)  # fmt: skip
 
@@ -264,7 +267,9 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
     return FollowRun(setup, trajectory, follower.decisions, distance, metrics, config, notes)
 
 
-def turn_rates(creature: Creature, scene: Scene, sines: dict, period: float) -> dict[str, float]:
+def turn_rates(
+    creature: Creature, scene: Scene, sines: dict, period: float, progress=None
+) -> dict[str, float]:
     """Each manoeuvre's turn a cycle [rad], for graded steering: the root's rotation about
     the manoeuvre's axis over ``RATE_CYCLES`` cycles from rest in ``scene`` (to its mean
     orientation over the last, as the search measures it), per cycle.
@@ -272,6 +277,7 @@ def turn_rates(creature: Creature, scene: Scene, sines: dict, period: float) -> 
     Args:
         sines: ``{manoeuvre: SineGait}``; ``straight`` is skipped.
         period: the gait cycle [s].
+        progress: ``progress(manoeuvre) -> progress(done, total)`` for each swim, or None.
 
     Raises:
         FollowSetupError: a manoeuvre that does not turn its way (learn it again, or
@@ -281,8 +287,9 @@ def turn_rates(creature: Creature, scene: Scene, sines: dict, period: float) -> 
     for name, gait in sines.items():
         if name == STRAIGHT:
             continue
+        report = None if progress is None else progress(name)
         trajectory = rollout(scene, init_state(scene), creature.servo(gait),
-                             RATE_CYCLES * period)  # fmt: skip
+                             RATE_CYCLES * period, progress=report)  # fmt: skip
         axis = np.asarray(MANEUVERS[name][1], dtype=float)
         turn = float(axis @ rotation_vector(creature.model, trajectory, period))
         if not turn > 0:
