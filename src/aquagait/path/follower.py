@@ -206,10 +206,10 @@ class Follower:
         return self._policy
 
     def _decide(self, state: State, position, rotation) -> None:
-        point, _ = self.path.nearest(position)
         travelled = 0.0 if self._last_position is None else np.linalg.norm(
             position - self._last_position)  # fmt: skip
-        progress = self.path.progress(position)
+        progress = self.path.progress(position)  # of the nearest point
+        point, _ = self.path.at(progress)
         _, tangent = self.path.at(progress + self.look_ahead * travelled)
         self._last_position = position
         offset = root_frame(point - position, rotation)

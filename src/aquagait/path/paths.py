@@ -84,10 +84,11 @@ class Path:
     def at(self, arc_length: float):
         """The path's point ``arc_length`` [m] along it (clamped to its ends) and the unit
         tangent there (at a vertex, the later segment's)."""
-        ends = np.cumsum(self._lengths)
+        lengths = self._lengths
+        ends = np.cumsum(lengths)
         k = min(int(np.searchsorted(ends, arc_length, side="right")), len(ends) - 1)
         step = self.points[k + 1] - self.points[k]
-        t = np.clip((arc_length - (ends[k] - self._lengths[k])) / self._lengths[k], 0.0, 1.0)
+        t = np.clip((arc_length - (ends[k] - lengths[k])) / lengths[k], 0.0, 1.0)
         return self.points[k] + t * step, step / np.linalg.norm(step)
 
     def _foot(self, position, around=None, reach=np.inf) -> tuple[int, float]:
