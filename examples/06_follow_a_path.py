@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 import aquagait as ag
-from aquagait.app.follow import turn_rates
+from aquagait.app.course import turn_rates
 from aquagait.path import Follower, root_pose, shape
 from aquagait.path import Path as Route
 

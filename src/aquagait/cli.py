@@ -118,6 +118,8 @@ def _cmd_swim(args) -> int:
             view=args.view,
             wake=args.wake,
             size=args.size,
+            keep_course=args.keep_course,
+            progress=lambda maneuver: ProgressBar(f"measuring {maneuver}"),
         )
         label = setup.creature.name + (f"-{args.maneuver}" if args.maneuver else "")
         out = output_directory(args.out or Path("runs") / label)
@@ -532,6 +534,10 @@ def build_parser() -> argparse.ArgumentParser:
     swim.add_argument("--maneuver", choices=MANEUVERS,
                       help="swim a learned manoeuvre's shipped gait instead")  # fmt: skip
     swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
+    swim.add_argument("--keep-course", action="store_true",
+                      help="keep to the line ahead of the start with the creature's learned "
+                      "manoeuvres, a share mixed into the gait each cycle (each manoeuvre's "
+                      "turn is measured first by a two-cycle swim)")  # fmt: skip
     swim.add_argument("--fluid", choices=list(FLUIDS), default="euler")
     swim.add_argument(
         "--resolution",

@@ -18,8 +18,8 @@ At the start of every cycle the follower (``aquagait.path.Follower``) mixes
 a share of a manoeuvre into the straight gait, by how far the path ahead
 bears off the heading and how fast the manoeuvre turns (``steer="graded"``,
 the default: ``aquagait.path.rule``, which gives the figures that chose it);
-each manoeuvre's turn a cycle is measured first, by swimming it
-``RATE_CYCLES`` cycles from rest, as its search did (``turn_rates``). With
+each manoeuvre's turn a cycle is measured first, by swimming it two
+cycles from rest, as its search did (``aquagait.app.course.turn_rates``). With
 ``steer="paper"`` it picks one whole manoeuvre or straight by the paper's
 rule, with a dead band of ``dead_band`` (by default a tenth of a body
 length). Either way a switch blends over a quarter of a cycle. ``open_loop``
@@ -34,6 +34,13 @@ from pathlib import Path as FilePath
 
 import numpy as np
 
+from aquagait.app.course import (
+    DEAD_BAND,
+    SteeringError,
+    shipped_maneuvers,
+    sines,
+    turn_rates,
+)
 from aquagait.app.errors import SetupError
 from aquagait.app.render import picture_look
 from aquagait.app.resolve import find_creature
@@ -43,7 +50,7 @@ from aquagait.creatures.creature import STRAIGHT
 from aquagait.io.gait import GaitFileError, read_gait
 from aquagait.io.run import write_run
 from aquagait.metrics import travel_metrics
-from aquagait.objectives import MANEUVERS, rotation_vector
+from aquagait.objectives import MANEUVERS
 from aquagait.path import BLEND, Decision, Follower, Path, PathError, parse_path, root_pose
 from aquagait.sim import (
     FRAMES_PER_SECOND,
@@ -56,8 +63,6 @@ from aquagait.sim import (
 )
 
 DEFAULT_CYCLES = 10
-DEAD_BAND = 0.1
-"""The follower's dead band, in body lengths."""
 
 SNAPSHOTS = 12
 """At most this many snapshots of the creature (whole cycles apart) in ``follow.png``."""
@@ -70,10 +75,6 @@ NEEDED = {1: ("turn-left", "turn-right"), 2: ("pitch-up", "pitch-down")}
 STEERING = ("paper", "graded")
 """How the follower turns: the paper's rule (one whole manoeuvre a cycle, or straight) or
 graded (a share of a manoeuvre mixed into the straight gait: ``aquagait.path.rule``)."""
-
-RATE_CYCLES = 2
-"""Cycles from rest over which graded steering measures each manoeuvre's turn (a
-manoeuvre's search swims two)."""
 
 
 class FollowSetupError(SetupError):
@@ -208,7 +209,10 @@ def prepare_follow(
     spec, x, _ = gaits[STRAIGHT]
     period = float(np.max(spec.unpack(x).period))
     graded = steer == "graded" and not open_loop
-    rates = turn_rates(creature, scene, _sines(gaits), period, progress) if graded else None
+    try:
+        rates = turn_rates(creature, scene, sines(gaits), period, progress) if graded else None
+    except SteeringError as err:
+        raise FollowSetupError(f"{err}, or follow by the paper's rule (--steer paper)") from None
     return FollowSetup(creature, scene, path, source, gaits, int(cycles), period, eps,
                        float(blend), bool(open_loop), float(fps), steer, rates)  # fmt: skip
 
@@ -231,7 +235,7 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
     """
     creature, scene = setup.creature, setup.scene
     library = {STRAIGHT: setup.gaits[STRAIGHT]} if setup.open_loop else setup.gaits
-    follower = Follower(scene, _sines(library), creature.servo, setup.path, setup.period,
+    follower = Follower(scene, sines(library), creature.servo, setup.path, setup.period,
                         setup.dead_band, setup.blend, rates=setup.rates)  # fmt: skip
     with growth_notes() as grew:
         trajectory = rollout(scene, init_state(scene), None, setup.seconds, fps=setup.fps,
@@ -265,41 +269,6 @@ def run_follow(setup: FollowSetup, progress=None) -> FollowRun:
                   "distances to the path are measured until then",)  # fmt: skip
     config = follow_config(setup, trajectory)
     return FollowRun(setup, trajectory, follower.decisions, distance, metrics, config, notes)
-
-
-def turn_rates(
-    creature: Creature, scene: Scene, sines: dict, period: float, progress=None
-) -> dict[str, float]:
-    """Each manoeuvre's turn a cycle [rad], for graded steering: the root's rotation about
-    the manoeuvre's axis over ``RATE_CYCLES`` cycles from rest in ``scene`` (to its mean
-    orientation over the last, as the search measures it), per cycle.
-
-    Args:
-        sines: ``{manoeuvre: SineGait}``; ``straight`` is skipped.
-        period: the gait cycle [s].
-        progress: ``progress(manoeuvre) -> progress(done, total)`` for each swim, or None.
-
-    Raises:
-        FollowSetupError: a manoeuvre that does not turn its way (learn it again, or
-            follow by the paper's rule).
-    """
-    rates = {}
-    for name, gait in sines.items():
-        if name == STRAIGHT:
-            continue
-        report = None if progress is None else progress(name)
-        trajectory = rollout(scene, init_state(scene), creature.servo(gait),
-                             RATE_CYCLES * period, progress=report)  # fmt: skip
-        axis = np.asarray(MANEUVERS[name][1], dtype=float)
-        turn = float(axis @ rotation_vector(creature.model, trajectory, period))
-        if not turn > 0:
-            raise FollowSetupError(
-                f"{creature.name}'s {name} turns {turn:.3g} rad its way over {RATE_CYCLES} "
-                "cycles from rest: graded steering needs each manoeuvre to turn its way. "
-                "Learn it again, or follow by the paper's rule (--steer paper)"
-            )
-        rates[name] = turn / RATE_CYCLES
-    return rates
 
 
 def _progress(path: Path, positions, body_length: float) -> np.ndarray:
@@ -414,18 +383,9 @@ def follow_summary(run: FollowRun, out=None) -> str:
 # --- what to follow, and with what -------------------------------------------
 
 
-def _sines(gaits: dict) -> dict:
-    """``{manoeuvre: SineGait}`` of a manoeuvre library ``{name: (spec, params, source)}``."""
-    return {name: spec.unpack(x) for name, (spec, x, _) in gaits.items()}
-
-
 def _library(creature: Creature, learned) -> dict:
     """``{manoeuvre: (spec, params, source)}``: the shipped manoeuvres, then the learned files."""
-    gaits = {
-        name: (creature.spec(name), creature.maneuver_gait(name),
-               "shipped" if name != STRAIGHT or STRAIGHT in creature.gaits else "default")
-        for name in creature.maneuvers
-    }  # fmt: skip
+    gaits = shipped_maneuvers(creature)
     for item in learned:
         file = FilePath(item)
         file = file / "gait.json" if file.is_dir() else file

@@ -7,18 +7,23 @@
 
 ``prepare_swim`` resolves and checks every setting before anything is
 simulated and fails with a ``SwimSetupError`` that says what was wrong;
+with ``keep_course=True`` it also measures the creature's learned
+manoeuvres, with which the swim keeps to the line ahead of its start
+(``aquagait.app.course``: a share of a manoeuvre mixed into the gait at
+each cycle's start, as path following does);
 ``run_swim`` simulates and measures; ``write_swim`` writes the run directory
 and, if asked, the video (``aquagait.viz``, the ``viz`` extra).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
 
+from aquagait.app.course import Course, SteeringError, prepare_course
 from aquagait.app.errors import SetupError
 from aquagait.app.render import draw_swim, picture_look
 from aquagait.app.resolve import creature_key, find_creature, find_gait
@@ -63,6 +68,8 @@ class SwimSetup:
         maneuver: the manoeuvre the gait swims (its parameterization: ``spec``).
         look: how its video is drawn (``aquagait.app.render.picture_look``).
         free_period: the gait's period is among its parameters (``spec``).
+        course: keep to the line ahead of the start with these manoeuvres
+            (``aquagait.app.course``), or None: the gait alone, open loop.
     """
 
     creature: Creature
@@ -75,6 +82,7 @@ class SwimSetup:
     maneuver: str = "straight"
     look: dict = field(default_factory=dict)
     free_period: bool = False
+    course: Course | None = None
 
     @property
     def spec(self):
@@ -117,6 +125,8 @@ def prepare_swim(
     view: str | None = None,
     wake: str | None = None,
     size=None,
+    keep_course: bool = False,
+    progress=None,
 ) -> SwimSetup:
     """Resolve a swim's settings: creature, gait, scene.
 
@@ -136,9 +146,15 @@ def prepare_swim(
             instead of the default one; not with ``gait``.
         view, wake, size: how a 3D swim's video is drawn (``picture_look``): default
             the creature's view, both wakes, 1280x720.
+        keep_course: keep to the line ahead of the start (+x) by mixing shares of the
+            creature's learned manoeuvres into the gait (``aquagait.app.course``); each
+            manoeuvre's turn a cycle is measured first, by a two-cycle swim.
+        progress: ``progress(manoeuvre) -> progress(done, total)`` for those swims, or None.
 
     Raises:
-        SwimSetupError: the message says which setting is wrong and what would be right.
+        SwimSetupError: the message says which setting is wrong and what would be right
+            (with ``keep_course``: a creature with no learned manoeuvre, a gait that is
+            itself a manoeuvre or sets its own period).
     """
     try:
         creature = find_creature(name)
@@ -178,8 +194,21 @@ def prepare_swim(
         look = picture_look(creature.model, view, wake, size, creature.view)
     except SetupError as err:
         raise SwimSetupError(str(err)) from None
-    return SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver,
-                     look, free_period)  # fmt: skip
+    setup = SwimSetup(creature, params, source, scene, float(seconds), dt, float(fps), maneuver,
+                      look, free_period)  # fmt: skip
+    if not keep_course:
+        return setup
+    if maneuver != "straight" or free_period:
+        gait_is = "sets its own period (--free-period)" if free_period else f"is {maneuver}"
+        raise SwimSetupError(
+            "keeping a course mixes manoeuvres into a straight gait of the shipped period; "
+            f"this gait {gait_is}: swim a straight gait, or swim without keeping a course"
+        )
+    try:
+        course = prepare_course(creature, scene, setup.period, progress)
+    except SteeringError as err:
+        raise SwimSetupError(str(err)) from None
+    return replace(setup, course=course)
 
 
 def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
@@ -194,13 +223,22 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
             the body outgrew the grid; time and place in the message).
     """
     creature, scene = setup.creature, setup.scene
-    policy = creature.servo(setup.spec.unpack(setup.params))
+    gait = setup.spec.unpack(setup.params)
+    policy, plan = creature.servo(gait), None
+    if setup.course is not None:
+        policy, plan = None, setup.course.follower(scene, gait, creature.servo, setup.period)
     steps = {} if setup.dt is None else {"dt": setup.dt}
     with growth_notes() as grew:
         trajectory = rollout(scene, init_state(scene), policy, setup.seconds, fps=setup.fps,
-                             progress=progress, **steps)  # fmt: skip
+                             progress=progress, plan=plan, **steps)  # fmt: skip
     metrics, notes = measure(creature.model, trajectory, setup.period)
     config = swim_config(setup, trajectory)
+    if plan is not None:
+        shares = {name: float(np.mean([d.shares.get(name, 0.0) for d in plan.decisions]))
+                  for name in setup.course.maneuvers}  # fmt: skip
+        metrics["course_shares"] = shares
+        mean = ", ".join(f"{name} {share:.2f}" for name, share in shares.items())
+        notes += (f"kept its course with its manoeuvres, mixed in at mean shares of {mean}",)
     return SwimRun(setup, trajectory, metrics, config, notes, tuple(grew))
 
 
@@ -237,6 +275,7 @@ def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
         },
         "period": setup.period,
         "seconds": setup.seconds,
+        "keep_course": None if setup.course is None else {"rates": dict(setup.course.rates)},
     })  # fmt: skip
 
 

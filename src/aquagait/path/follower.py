@@ -61,7 +61,7 @@ from scipy.spatial.transform import Rotation
 
 from aquagait.control.gait import SineGait, SwitchedGait, mix
 from aquagait.path.paths import Path
-from aquagait.path.rule import STRAIGHT, choose_maneuver, graded_shares, root_frame
+from aquagait.path.rule import GAIN, STRAIGHT, choose_maneuver, graded_shares, root_frame
 from aquagait.sim import Scene, State
 
 LOOK_AHEAD = 1.0
@@ -151,6 +151,7 @@ class Follower:
         rates: graded steering (module docstring): ``{manoeuvre: its turn a cycle}``
             [rad], > 0; None: the paper's rule.
         aim: graded steering's ``AIM``.
+        gain: graded steering's ``rule.GAIN``.
     """
 
     def __init__(
@@ -166,6 +167,7 @@ class Follower:
         look_ahead: float = LOOK_AHEAD,
         rates: Mapping[str, float] | None = None,
         aim: float = AIM,
+        gain: float = GAIN,
     ):
         if STRAIGHT not in gaits:
             raise ValueError(f"the manoeuvre library needs a straight gait; has {sorted(gaits)}")
@@ -190,7 +192,7 @@ class Follower:
         self._last_mean = None  # the root's mean rotation over the cycle before
         self.lead, self.look_ahead = float(lead), float(look_ahead)
         self.rates = None if rates is None else dict(rates)
-        self.aim = float(aim)
+        self.aim, self.gain = float(aim), float(gain)
         self._last_position = None  # the root's at the last decision
         self._gait = None  # the gait swum since the last decision
 
@@ -219,7 +221,7 @@ class Follower:
             asked = {} if wanted == STRAIGHT else {wanted: 1.0}
         else:
             aim, _ = self.path.at(progress + self.aim * travelled)
-            asked = graded_shares(root_frame(aim - position, rotation), self.rates)
+            asked = graded_shares(root_frame(aim - position, rotation), self.rates, self.gain)
             wanted = max(asked, key=asked.get) if asked else STRAIGHT
         shares = {name: share for name, share in asked.items() if name in self.gaits}
         chosen = max(shares, key=shares.get) if shares else STRAIGHT
