@@ -16,7 +16,7 @@ import aquagait as ag
 from aquagait.app import prepare_swim, run_swim
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import TailTip, tail_tip, tail_tip_path
-from aquagait.metrics import centre_of_mass_path, lateral_excursion
+from aquagait.metrics import Cycles, centre_of_mass_path, lateral_excursion
 
 CYCLES = 20
 STRAIGHT_DEGREES = 30.0
@@ -46,11 +46,31 @@ PITCHING = {
 attitude-keeping layer, or a search that sees more than two cycles) must right them."""
 
 
+KEPT_DEGREES = 6.0
+"""The heading, pitch and roll (each over a cycle) allowed in any of twenty cycles of a swim
+that keeps its course (``aquagait swim --keep-course``). Measured: eel2d's heading within
+1.8 degrees (21 open loop), the manta's pitch within 3.8 (it loops open loop) and its roll
+0.1."""
+
+STEERED = sorted(n for n in ag.creatures.names()
+                 if len(ag.creatures.get(n).maneuvers) > 1 and n not in DRIFTS)  # fmt: skip
+"""Creatures with learned manoeuvres to keep a course with. Not the 2D turtle: its straight
+gait turns 50 degrees in four cycles, and its turns, whole, do not stop it (weaving 50
+degrees either way at any gain from 0.25 to 2)."""
+
 ANIMAL_STROUHAL = (0.2, 0.4)
 """Where fish and cetaceans cruise (Taylor, Nudds and Thomas 2003, Nature 425)."""
 
 EFFICIENT = sorted(n for n in ag.creatures.names() if "efficient" in ag.creatures.get(n).gaits)
 """Creatures that ship an ``efficient`` gait (``aquagait optimize --objective efficiency``)."""
+
+ABOVE_ANIMALS = {
+    "eel3d": "St 0.43 at the speed it was asked for (docs/library.md, Economical gaits: the "
+    "same stroke at three quarters of the amplitude cruises at St 0.38, 10 % slower than "
+    "the search's floor; a finer grid raises it, to 0.50 at half the cell)",
+}
+"""``efficient`` gaits whose cruising Strouhal number stays above the animals' range, and
+what keeps them there (issue 32 asks for the cause where the range is not met)."""
 
 
 @functools.cache
@@ -180,11 +200,11 @@ def test_the_propulsive_limbs_do_most_of_the_work(name, group):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", EFFICIENT)
-def test_an_efficient_gait_cruises_as_animals_do_and_cheaper_than_the_straight_one(name):
+def test_an_efficient_gait_keeps_its_speed_cheaper_than_the_straight_one(name):
     """The efficiency objective's gait (docs/library.md, "Economical gaits"): at cruise it
     keeps the speed its search asked for (``--min-speed``, in its command) within 5 % (the
-    search measured two cycles of six, this the last of twenty), beats at a Strouhal number
-    animals cruise at, and costs less a metre than the straight gait."""
+    search measured two cycles of six, this the last of twenty) and costs less a metre than
+    the straight gait; an eel's or a fish's still beats as a wave from head to tail."""
     creature = ag.creatures.get(name)
     run, straight = long_swim(name, "efficient"), long_swim(name)
     m = run.metrics
@@ -196,10 +216,36 @@ def test_an_efficient_gait_cruises_as_animals_do_and_cheaper_than_the_straight_o
           f"cost of transport {m['cruise_cost_of_transport']:.3g} against the straight "
           f"gait's {straight.metrics['cruise_cost_of_transport']:.3g} J/(kg m)")  # fmt: skip
     assert m["settled"] and m["cruise_speed"] >= 0.95 * min_speed
-    assert ANIMAL_STROUHAL[0] <= m["cruise_strouhal"] <= ANIMAL_STROUHAL[1]
     assert m["cruise_cost_of_transport"] < straight.metrics["cruise_cost_of_transport"]
     if name in ANGUILLIFORM | {"fish"}:
         lags = np.angle(np.exp(1j * np.diff(joint_phases(creature, run.trajectory))))
         envelope, _ = lateral_envelope(creature, run.trajectory)
         assert np.all(lags < 0)  # still a wave travelling head to tail,
         assert envelope[-1] == envelope.max()  # the tail sweeping widest
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(n, marks=pytest.mark.xfail(reason=ABOVE_ANIMALS[n], strict=True))
+        if n in ABOVE_ANIMALS
+        else n
+        for n in EFFICIENT
+    ],
+)
+def test_an_efficient_gait_cruises_at_a_strouhal_number_animals_cruise_at(name):
+    m = long_swim(name, "efficient").metrics
+    assert m["settled"]
+    assert ANIMAL_STROUHAL[0] <= m["cruise_strouhal"] <= ANIMAL_STROUHAL[1]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", STEERED)
+def test_a_swim_that_keeps_its_course_holds_its_heading_and_stays_upright(name):
+    creature = ag.creatures.get(name)
+    run = run_swim(prepare_swim(name, seconds=float(CYCLES), keep_course=True))
+    angles = Cycles(creature.model, run.trajectory, run.setup.period).attitudes()
+    print(f"{name} keeping its course: largest heading, pitch, roll "
+          f"{np.abs(angles).max(axis=0).round(1)} deg; {run.notes[-1]}")  # fmt: skip
+    assert np.all(np.abs(angles) < KEPT_DEGREES)
