@@ -55,8 +55,8 @@ that keeps its course (``aquagait swim --keep-course``). Measured: eel2d's headi
 STEERED = sorted(n for n in ag.creatures.names()
                  if len(ag.creatures.get(n).maneuvers) > 1 and n not in DRIFTS)  # fmt: skip
 """Creatures with learned manoeuvres to keep a course with. Not the 2D turtle: its straight
-gait turns 50 degrees in four cycles, and its turns, whole, do not stop it (weaving 50
-degrees either way at any gain from 0.25 to 2)."""
+gait turns 50 degrees in four cycles, and its whole turn takes three cycles to stop that (it
+weaves 50 degrees either way at any gain from 0.25 to 2)."""
 
 ANIMAL_STROUHAL = (0.2, 0.4)
 """Where fish and cetaceans cruise (Taylor, Nudds and Thomas 2003, Nature 425)."""
