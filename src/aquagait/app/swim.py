@@ -100,8 +100,9 @@ class SwimRun:
     """A finished swim: its ``setup``, ``trajectory``, ``metrics`` and resolved ``config``.
 
     ``notes`` says what could not be measured (e.g. a swim shorter than two
-    cycles has no steady speed or Strouhal number); ``grid_notes`` when and how the
-    body outgrew its grid, which grew (``aquagait.sim.GridGrew``).
+    cycles has no steady speed or Strouhal number) and, if it kept its course, how it
+    steered; ``grid_notes`` when and how the body outgrew its grid, which grew
+    (``aquagait.sim.GridGrew``).
     """
 
     setup: SwimSetup
