@@ -42,8 +42,10 @@ PITCHING = {
     "frog": "its kick pitches it nose down about 5 degrees a cycle: 85 degrees by cycle 20",
     "accordion2d": "its one shared fold pushes it off course: 44 degrees over 20 cycles",
 }
-"""Shipped gaits whose stroke turns the body steadily: a trim of their offsets (an
-attitude-keeping layer, or a search that sees more than two cycles) must right them."""
+"""Shipped gaits whose stroke turns the body steadily, open loop. Keeping its course rights
+the manta (``test_a_swim_that_keeps_its_course_...``); the frog and the accordion have no
+learned manoeuvre to do so; the fix at the cause is a search that sees more than two
+cycles."""
 
 
 KEPT_DEGREES = 6.0
