@@ -100,10 +100,11 @@ def turn_rates(
         axis = np.asarray(MANEUVERS[name][1], dtype=float)
         turn = float(axis @ rotation_vector(creature.model, trajectory, period))
         if not turn > 0:
+            fix = ("In a vacuum only the body's change of shape turns it: steer in a fluid"
+                   if scene.fluid.name == "none" else "Learn it again")  # fmt: skip
             raise SteeringError(
                 f"{creature.name}'s {name} turns {turn:.3g} rad its way over {RATE_CYCLES} "
-                "cycles from rest: graded steering needs each manoeuvre to turn its way. "
-                "Learn it again"
+                f"cycles from rest: graded steering needs each manoeuvre to turn its way. {fix}"
             )
         rates[name] = turn / RATE_CYCLES
     return rates
