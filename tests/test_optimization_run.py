@@ -4,9 +4,11 @@ import dataclasses
 import json
 import pickle
 import re
+import shlex
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -98,6 +100,36 @@ def test_the_energy_weight_is_the_creature_s_unless_given(tmp_path, capsys):
     argv = ["optimize", "eel2d", "--energy-weight", "-1", "--out", str(tmp_path / "eel")]
     assert cli.main(argv) == 2  # the flag reaches the setup, which refuses it
     assert "energy weight must be a number >= 0" in capsys.readouterr().err
+
+
+def test_the_deviation_weight_scales_the_drift_and_turning_term(tmp_path, capsys):
+    """The objective is linear in the weight of ``E_deviation``: the same swim (the simple
+    fluid, its start) scores ``w E_deviation`` more at weight ``w`` than at 0, with
+    ``E_deviation > 0`` (a swim drifts and turns a little); 0.2 is the paper's default. The
+    command line and a shipped gait's command carry it."""
+    values = {}
+    for weight in (None, 0.0, 1.2):
+        setup = prepare_optimization("eel2d", fluid="simple", deviation_weight=weight)
+        values[weight] = setup.objective(setup.problem.x0)
+    assert setup.config()["weights"]["deviation"] == 1.2
+    e_deviation = (values[1.2] - values[0.0]) / 1.2
+    assert e_deviation > 0
+    assert values[None] - values[0.0] == pytest.approx(0.2 * e_deviation, rel=1e-9)
+    with pytest.raises(OptimizationSetupError, match="deviation weight must be a number >= 0"):
+        prepare_optimization("eel2d", deviation_weight=float("nan"), **COARSE)
+
+    out = tmp_path / "eel"
+    argv = ["optimize", "eel2d", "--generations", "1", "--popsize", "4", "--workers", "1",
+            "--deviation-weight", "1", "--resolution", "48", "28", "--cell-size", "0.025",
+            "--out", str(out), "--no-video"]  # fmt: skip
+    assert cli.main(argv) == 0
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+    from ship_gait import provenance
+
+    command = provenance(out)["command"]
+    assert "--deviation-weight 1" in command
+    again = cli.optimization_setup(cli.build_parser().parse_args(shlex.split(command)[1:]))
+    assert again.objective.weights.deviation == 1.0
 
 
 def test_optimize_command_writes_the_run_directory_and_resumes(tmp_path, capsys):

@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from aquagait.objectives import Weights
+
 CREATURES = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures"
 
 
@@ -62,6 +64,8 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
     command += ["--cell-size", f"{grid['cell_size']:g}"]
     # the energy weight always too: a creature's default comes from its side-car
     command += ["--energy-weight", f"{opt['weights']['energy']:g}"]
+    if opt["weights"]["deviation"] != Weights.deviation:  # the paper's: left out
+        command += ["--deviation-weight", f"{opt['weights']['deviation']:g}"]
     if opt.get("start") is not None:
         command += ["--start", opt["start"]]
     if opt.get("step") is not None:

@@ -226,6 +226,7 @@ def optimization_setup(args):
         start=args.start,
         step=args.step,
         energy_weight=args.energy_weight,
+        deviation_weight=args.deviation_weight,
         max_evaluations=args.max_evaluations,
         patience=args.patience,
         objective=args.objective,
@@ -594,6 +595,10 @@ def build_parser() -> argparse.ArgumentParser:
                           help="the weight of the actuator work [J] in the objective once "
                           "it passes the energy bound (default: the creature's, 1 unless its "
                           "metadata says)")  # fmt: skip
+    optimize.add_argument("--deviation-weight", type=float, metavar="W",
+                          help="the weight of the drift [m] and turning [rad] in the "
+                          "objective (default 0.2, the paper's; heavier, with more --cycles, "
+                          "charges a gait that slowly pitches or turns)")  # fmt: skip
     optimize.add_argument(
         "--objective",
         choices=OBJECTIVES,

@@ -245,6 +245,7 @@ def prepare_optimization(
     start=None,
     step: float | None = None,
     energy_weight: float | None = None,
+    deviation_weight: float | None = None,
     max_evaluations: int | None = None,
     patience: int | None = None,
     objective: str = "distance",
@@ -286,6 +287,9 @@ def prepare_optimization(
             its range (0 < step <= 1); None: a quarter (``Problem.sigma0``).
         energy_weight: the objective's energy weight [1/J] (``objectives.Weights``);
             None: the creature's (``Creature.energy_weight``, 1 unless its side-car says).
+        deviation_weight: the weight of ``E_deviation`` (drift [m] plus turning [rad])
+            (``objectives.Weights``); None: the paper's 0.2. Heavier, with more
+            ``cycles``, charges a gait that slowly pitches or turns.
         max_evaluations: the most swims of the whole search (the start's included);
             None: no cap.
         patience: generations without a ``Settings.tolerance`` improvement of the
@@ -342,6 +346,13 @@ def prepare_optimization(
             f"energy weight must be a number >= 0 (per joule, once past the bound), "
             f"got {energy_weight}"
         )
+    if deviation_weight is None:
+        deviation_weight = objectives.Weights.deviation
+    elif not (np.isfinite(deviation_weight) and deviation_weight >= 0):
+        raise OptimizationSetupError(
+            f"deviation weight must be a number >= 0 (per metre of drift and radian of "
+            f"turning), got {deviation_weight}"
+        )
     _check_objective(objective, maneuver, min_speed, cycles)
     if cycles is None:
         cycles = EFFICIENCY_CYCLES if objective == "efficiency" else DEFAULT_CYCLES
@@ -350,7 +361,8 @@ def prepare_optimization(
     kind = objective
     objective = SwimObjective(
         key, _tuple(resolution), cell_size, fluid, seconds, tuple(direction.tolist()),
-        weights=objectives.Weights(energy=float(energy_weight)), maneuver=maneuver,
+        weights=objectives.Weights(float(deviation_weight), float(energy_weight)),
+        maneuver=maneuver,
         axis=None if axis is None else tuple(axis.tolist()), objective=kind,
         free_period=free_period,
         cycles=float(cycles) if free_period and kind == "efficiency" else None,
