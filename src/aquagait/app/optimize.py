@@ -339,20 +339,12 @@ def prepare_optimization(
     x0 = _start(creature, maneuver, start, free_period)
     if step is not None and not 0 < step <= 1:
         raise OptimizationSetupError(f"step must be in (0, 1], a share of each range; got {step}")
-    if energy_weight is None:
-        energy_weight = creature.energy_weight
-    elif not (np.isfinite(energy_weight) and energy_weight >= 0):
-        raise OptimizationSetupError(
-            f"energy weight must be a number >= 0 (per joule, once past the bound), "
-            f"got {energy_weight}"
-        )
-    if deviation_weight is None:
-        deviation_weight = objectives.Weights.deviation
-    elif not (np.isfinite(deviation_weight) and deviation_weight >= 0):
-        raise OptimizationSetupError(
-            f"deviation weight must be a number >= 0 (per metre of drift and radian of "
-            f"turning), got {deviation_weight}"
-        )
+    weights = objectives.Weights(
+        _weight(deviation_weight, objectives.Weights.deviation,
+                "deviation weight", "per metre of drift and radian of turning"),
+        _weight(energy_weight, creature.energy_weight, "energy weight",
+                "per joule, once past the bound"),
+    )  # fmt: skip
     _check_objective(objective, maneuver, min_speed, cycles)
     if cycles is None:
         cycles = EFFICIENCY_CYCLES if objective == "efficiency" else DEFAULT_CYCLES
@@ -361,8 +353,7 @@ def prepare_optimization(
     kind = objective
     objective = SwimObjective(
         key, _tuple(resolution), cell_size, fluid, seconds, tuple(direction.tolist()),
-        weights=objectives.Weights(float(deviation_weight), float(energy_weight)),
-        maneuver=maneuver,
+        weights=weights, maneuver=maneuver,
         axis=None if axis is None else tuple(axis.tolist()), objective=kind,
         free_period=free_period,
         cycles=float(cycles) if free_period and kind == "efficiency" else None,
@@ -394,6 +385,16 @@ def prepare_optimization(
     notes += efficiency_notes + _room_notes(scene, gait, problem)
     start = None if start is None else str(start)
     return OptimizationSetup(creature, objective, problem, settings, notes, start, step)
+
+
+def _weight(value, default: float, what: str, unit: str) -> float:
+    """An objective term's weight: ``default`` for None, else a number >= 0 (``unit`` says
+    what it is per, for the message)."""
+    if value is None:
+        return float(default)
+    if not (np.isfinite(value) and value >= 0):
+        raise OptimizationSetupError(f"{what} must be a number >= 0 ({unit}), got {value}")
+    return float(value)
 
 
 def _check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
