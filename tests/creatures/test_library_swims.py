@@ -75,6 +75,13 @@ ABOVE_ANIMALS = {
 what keeps them there (issue 32 asks for the cause where the range is not met)."""
 
 
+def known_failures(names, reasons: dict) -> list:
+    """``names`` as test parameters, those in ``reasons`` marked as strict known failures
+    (a pass of one fails: the figure it was known by has changed)."""
+    return [pytest.param(n, marks=pytest.mark.xfail(reason=reasons[n], strict=True))
+            if n in reasons else n for n in names]  # fmt: skip
+
+
 @functools.cache
 def long_swim(name, gait=None):
     """The shipped gait's (default: straight) swim of ``CYCLES`` cycles from rest on the
@@ -110,15 +117,8 @@ def test_the_shipped_gait_swims_forward_within_its_energy_bound_and_settles(name
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(
-    "name",
-    [
-        pytest.param(n, marks=pytest.mark.xfail(reason=PITCHING[n], strict=True))
-        if n in PITCHING
-        else n
-        for n in sorted(set(ag.creatures.names()) - DRIFTS)
-    ],
-)
+@pytest.mark.parametrize("name", known_failures(sorted(set(ag.creatures.names()) - DRIFTS),
+                                                PITCHING))  # fmt: skip
 def test_the_shipped_gait_keeps_its_heading_and_stays_upright_for_twenty_cycles(name):
     creature = ag.creatures.get(name)
     run = long_swim(name)
@@ -227,15 +227,7 @@ def test_an_efficient_gait_keeps_its_speed_cheaper_than_the_straight_one(name):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(
-    "name",
-    [
-        pytest.param(n, marks=pytest.mark.xfail(reason=ABOVE_ANIMALS[n], strict=True))
-        if n in ABOVE_ANIMALS
-        else n
-        for n in EFFICIENT
-    ],
-)
+@pytest.mark.parametrize("name", known_failures(EFFICIENT, ABOVE_ANIMALS))
 def test_an_efficient_gait_cruises_at_a_strouhal_number_animals_cruise_at(name):
     m = long_swim(name, "efficient").metrics
     assert m["settled"]
