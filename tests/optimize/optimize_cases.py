@@ -127,6 +127,18 @@ class DiesOnce:
         return self.objective(x)
 
 
+class DiesWhenTaken:
+    """A task that marks that a worker has taken it, then kills that worker."""
+
+    def __init__(self, marker: str):
+        self.marker = marker
+
+    def __call__(self):
+        open(self.marker, "w").close()
+        time.sleep(0.2)
+        os._exit(3)
+
+
 def within(x, limit: float = 0.5) -> bool:
     """Feasible when x[0] <= limit (a stand-in for joint limits)."""
     return bool(x[0] <= limit)

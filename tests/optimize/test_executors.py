@@ -14,11 +14,21 @@ import subprocess
 import sys
 import threading
 import time
+from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 import pytest
 from cluster_processes import Cluster
-from optimize_cases import DiesOnce, Slow, Sphere, needs_dask, same_run, sphere_problem, within
+from optimize_cases import (
+    DiesOnce,
+    DiesWhenTaken,
+    Slow,
+    Sphere,
+    needs_dask,
+    same_run,
+    sphere_problem,
+    within,
+)
 
 from aquagait.optimize import (
     ProcessExecutor,
@@ -73,6 +83,53 @@ def test_a_dead_worker_process_is_replaced_and_its_sample_retried(tmp_path, capl
     assert (tmp_path / "died").exists()
     assert "resubmitting" in caplog.text
     same_run(serial, result)  # the retried samples got their true values
+
+
+def test_a_worker_started_as_the_pool_breaks_is_killed(tmp_path, monkeypatch):
+    # CPython 3.11's pool can start a worker on a submit while it is breaking, and
+    # register it after terminating every worker it knew; nothing stops that worker,
+    # and interpreter exit waits for it for ever. Force that order for the second.
+    spawn, started, taken = cf.ProcessPoolExecutor._spawn_process, [], tmp_path / "taken"
+
+    def late(pool):
+        second = bool(pool._processes)
+        if second:  # start it once the first worker has taken the task that kills it
+            until(taken.exists)
+        registry, pool._processes = pool._processes, {}
+        spawn(pool)  # starts the worker; registers it in the stand-in
+        [(pid, worker)] = pool._processes.items()
+        pool._processes = registry
+        if second:
+            until(lambda: pool._broken)
+            time.sleep(0.2)  # its manager has terminated the workers it knew
+        registry[pid] = worker
+        started.append(worker)
+
+    monkeypatch.setattr(cf.ProcessPoolExecutor, "_spawn_process", late)
+    executor = ProcessExecutor(2)
+    try:
+        dies = executor.submit(DiesWhenTaken(str(taken)))
+        executor.submit(abs, -1)  # starts the second worker
+        assert len(started) == 2 and started[1].is_alive()
+        assert executor.lost() == ""  # what evaluate asks while it waits
+        for worker in started:
+            worker.join(timeout=10)
+            assert worker.exitcode is not None
+        with pytest.raises(BrokenProcessPool):
+            dies.result(timeout=10)
+        monkeypatch.undo()
+        assert executor.submit(abs, -2).result(timeout=60) == 2
+    finally:  # a worker left running would hang the shutdown
+        for worker in started:
+            worker.kill()
+        executor.shutdown()
+
+
+def until(condition, seconds: float = 30.0) -> None:
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, f"waited {seconds} s"
+        time.sleep(0.01)
 
 
 def test_without_retries_a_lost_sample_gets_the_penalty_and_the_run_goes_on(tmp_path):

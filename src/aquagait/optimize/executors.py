@@ -62,8 +62,9 @@ class ProcessExecutor(cf.Executor):
 
     A `ProcessPoolExecutor` whose worker is killed is broken for good: its
     pending futures raise `BrokenProcessPool` and so does every later submit.
-    This one starts a fresh pool on the next submit instead, so `optimize`
-    can resubmit the lost samples (`Settings.retries`) and the run goes on.
+    This one starts a fresh pool on the next submit (or `lost()`) instead,
+    having killed every worker of the broken one, so `optimize` can resubmit
+    the lost samples (`Settings.retries`) and the run goes on.
     Only a fresh pool that cannot take work either (its workers cannot start)
     makes a submit raise, which `evaluate` reports as `ExecutorLost`.
 
@@ -88,6 +89,7 @@ class ProcessExecutor(cf.Executor):
         self._lock = threading.Lock()
         self._closed = False
         self._pool = self._new_pool()
+        self._out: set[cf.Future] = set()  # the pool's tasks not yet done
 
     def describe(self) -> str:
         """The evaluators in words, e.g. "2 worker processes"."""
@@ -104,12 +106,47 @@ class ProcessExecutor(cf.Executor):
             if self._closed:
                 raise RuntimeError("cannot submit to a ProcessExecutor after shutdown")
             try:
-                return self._pool.submit(fn, *args, **kwargs)
+                future = self._pool.submit(fn, *args, **kwargs)
             except BrokenProcessPool:
-                log.warning("a worker process died; starting %d fresh ones", self.workers)
-                self._pool.shutdown(wait=False, cancel_futures=True)
-                self._pool = self._new_pool()
-                return self._pool.submit(fn, *args, **kwargs)
+                self._replace_broken_pool()
+                future = self._pool.submit(fn, *args, **kwargs)
+            out = self._out
+            out.add(future)
+        future.add_done_callback(out.discard)
+        return future
+
+    def lost(self) -> str:
+        """Never lost: "". But a broken pool is replaced here too, not only on a submit.
+
+        `evaluate` asks this while it waits, so a task that the broken pool
+        never failed (see `_replace_broken_pool`) is failed within a poll and
+        resubmitted, even when no other task of the generation is.
+        """
+        with self._lock:
+            if not self._closed and getattr(self._pool, "_broken", False):
+                self._replace_broken_pool()
+        return ""
+
+    def _replace_broken_pool(self) -> None:
+        """Retire the broken pool for good and start a fresh one; call holding the lock.
+
+        CPython's pool (3.11) breaks with races: a worker it starts on a submit
+        while it is breaking is never terminated (its manager thread, and then
+        interpreter exit, wait for it for ever), and a task submitted then may
+        never be failed. So every worker of the old pool is killed, and every
+        task of it still out fails with BrokenProcessPool, which `evaluate`
+        takes for a lost sample.
+        """
+        log.warning("a worker process died; starting %d fresh ones", self.workers)
+        old, out = self._pool, self._out
+        workers = list((getattr(old, "_processes", None) or {}).values())  # shutdown drops it
+        old.shutdown(wait=False, cancel_futures=True)
+        for worker in workers:
+            worker.kill()
+        for future in list(out):
+            with contextlib.suppress(cf.InvalidStateError):  # the pool failed it meanwhile
+                future.set_exception(BrokenProcessPool("the worker pool broke"))
+        self._pool, self._out = self._new_pool(), set()
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         """Stop the workers (waiting for running tasks when `wait`)."""
