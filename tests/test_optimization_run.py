@@ -171,6 +171,8 @@ def test_the_default_search_stops_by_itself_and_a_resume_after_it_says_so(tmp_pa
     )
     assert cli.main(argv[:3] + ["14"] + argv[4:] + ["--resume"]) == 2  # another cap: refused
     assert "max_evaluations: 13 in the checkpoint, 14 now" in capsys.readouterr().err
+    assert cli.main(argv + ["--deviation-weight", "1", "--resume"]) == 2  # another objective
+    assert "objective.weights.deviation: 0.2 in the checkpoint, 1.0 now" in capsys.readouterr().err
 
 
 def test_a_generation_count_alone_keeps_the_papers_fixed_budget():

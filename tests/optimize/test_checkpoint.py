@@ -150,6 +150,35 @@ def test_a_checkpoint_with_other_settings_is_refused(tmp_path):
         optimize(sphere_problem(5, groups=GROUPS), GROUPED, run_dir=tmp_path, resume=True)
 
 
+class Scaled(Sphere):
+    """A sphere times a weight, which its fingerprint names (as a swim's objective does)."""
+
+    def __init__(self, center, weight: float):
+        super().__init__(center)
+        self.weight = weight
+
+    def __call__(self, x):
+        return self.weight * super().__call__(x)
+
+    def fingerprint(self) -> dict:
+        return {"kind": "scaled sphere", "terms": {"weight": self.weight}}
+
+
+def test_a_checkpoint_of_another_objective_is_refused_and_an_older_one_resumes(tmp_path):
+    def scaled(weight: float):
+        return sphere_problem(4, Scaled(np.ones(4), weight), groups=GROUPS)
+
+    first = optimize(scaled(2.0), GROUPED, run_dir=tmp_path)
+    with pytest.raises(ValueError, match=r"objective\.terms\.weight: 2\.0 in the checkpoint, 3\.0"):
+        optimize(scaled(3.0), GROUPED, run_dir=tmp_path, resume=True)
+    same_run(first, optimize(scaled(2.0), GROUPED, run_dir=tmp_path, resume=True))
+    # a checkpoint from before objectives were fingerprinted resumes
+    state = checkpoint.load(tmp_path)
+    del state["fingerprint"]["objective"]
+    checkpoint.save(tmp_path, state)
+    same_run(first, optimize(scaled(3.0), GROUPED, run_dir=tmp_path, resume=True))
+
+
 def test_resume_needs_a_checkpoint_and_a_new_run_never_overwrites_one(tmp_path):
     with pytest.raises(FileNotFoundError, match="nothing to resume"):
         optimize(grouped(), GROUPED, run_dir=tmp_path, resume=True)

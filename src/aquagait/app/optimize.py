@@ -18,7 +18,7 @@ checked before anything is simulated (``feasible``).
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -105,6 +105,17 @@ class SwimObjective:
                                                self.weights)  # fmt: skip
         return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights,
                                 axis=self.axis, period=period)  # fmt: skip
+
+    def fingerprint(self) -> dict:
+        """What makes it the same function, which a resumed search must share (``optimize``'s
+        checkpoint): every field; the two measured from the start's swim (``reference_cost``
+        and the default ``min_speed``) to six digits, as a swim's last bits may differ
+        between machines."""
+        values = asdict(self)
+        for name in ("min_speed", "reference_cost"):
+            if values[name] is not None:
+                values[name] = float(f"{values[name]:.6g}")
+        return values
 
     def cruise(self, params) -> tuple[float, float]:
         """Speed [m/s] and cost of transport [J/(kg m)] of the gait over the sample's last

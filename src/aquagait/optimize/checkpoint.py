@@ -52,8 +52,10 @@ FAILURE_COLUMNS = ("generation", "group", "sample", "status", "reason")
 
 
 def fingerprint(problem: Problem, settings: Settings) -> dict:
-    """What a checkpoint must share with a run that resumes it: problem shape and settings."""
-    return {
+    """What a checkpoint must share with a run that resumes it: the problem's shape, the
+    settings, and the objective, where it says what makes it the same function: a dict
+    from its ``fingerprint()`` method (and the refining objective's, as ``target``)."""
+    values = {
         "parameters": problem.size,
         "x0": problem.x0.tolist(),
         "lower": problem.lower.tolist(),
@@ -63,6 +65,15 @@ def fingerprint(problem: Problem, settings: Settings) -> dict:
         "feasible": problem.feasible is not None,
         **_settings(problem, settings),
     }
+    for key, objective in (("objective", problem.objective), ("target", problem.refine)):
+        describe = getattr(objective, "fingerprint", None)
+        if callable(describe):
+            values[key] = describe()
+    return values
+
+
+LATER = ("objective", "target")
+"""Fingerprint entries newer than some checkpoints: one without them resumes unchecked there."""
 
 
 def _settings(problem: Problem, settings: Settings) -> dict:
@@ -77,18 +88,32 @@ def _settings(problem: Problem, settings: Settings) -> dict:
 
 
 def mismatch(saved: dict, wanted: dict) -> list[str]:
-    """The differences between a checkpoint's fingerprint and this run's, in words."""
+    """The differences between a checkpoint's fingerprint and this run's, in words; a
+    dict entry by its own entries (``objective.weights.deviation: ...``)."""
 
     def brief(value):
         text = repr(value)
         return text if len(text) <= 60 else text[:57] + "..."
 
+    wanted = {key: value for key, value in wanted.items() if key in saved or key not in LATER}
+    saved, wanted = _flat(saved), _flat(wanted)
     keys = list(wanted) + [key for key in saved if key not in wanted]
     return [
         f"{key}: {brief(saved.get(key))} in the checkpoint, {brief(wanted.get(key))} now"
         for key in keys
         if saved.get(key) != wanted.get(key)
     ]
+
+
+def _flat(values: dict, prefix: str = "") -> dict:
+    """Nested dicts' entries under dotted keys."""
+    flat = {}
+    for key, value in values.items():
+        if isinstance(value, dict):
+            flat.update(_flat(value, f"{prefix}{key}."))
+        else:
+            flat[prefix + key] = value
+    return flat
 
 
 def save(run_dir: Path, state: dict) -> None:
