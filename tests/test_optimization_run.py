@@ -271,7 +271,7 @@ def test_a_grid_too_narrow_for_the_search_s_gaits_is_named_with_one_that_holds_t
 def test_the_efficiency_objective_is_measured_in_the_starting_gaits_cost():
     setup = prepare_optimization("eel2d", objective="efficiency", cycles=3, **COARSE)
     objective = setup.objective
-    speed, cost = objective.cruise(setup.problem.x0)
+    speed, cost, _ = objective.cruise(setup.problem.x0)
     assert objective.reference_cost == cost and objective.seconds == 3.0
     assert objective.min_speed == pytest.approx(0.75 * speed)  # the default: 75 % of it
     # the start: its own cost (1), fast enough, plus its small drift and turn
@@ -279,6 +279,10 @@ def test_the_efficiency_objective_is_measured_in_the_starting_gaits_cost():
     config = setup.config()
     assert config["objective"] == "efficiency" and config["cruise_cycles"] == 2
     assert config["reference_cost_of_transport"] == cost and "efficiency" in setup.notes[0]
+    # three cycles from rest are too few to cruise in (the third swims twice the first)
+    assert "has not settled at cruise in the 3 cycles a sample swims" in setup.notes[1]
+    settled = prepare_optimization("eel2d", objective="efficiency", cycles=7, **COARSE)
+    assert not any("settled" in note for note in settled.notes)  # settled from cycle 4
     asked = prepare_optimization("eel2d", objective="efficiency", cycles=3, min_speed=10 * speed,
                                  **COARSE)  # fmt: skip
     assert asked.objective(setup.problem.x0) > 1 + 0.8 * 10  # 90 % short of its speed

@@ -77,7 +77,8 @@ EFFICIENCY_CYCLES = 6.0
 """Gait cycles simulated per sample of the efficiency objective: eel2d and the other 2D
 creatures settle at cruise by their fourth (docs/library.md), and the last
 ``EFFICIENCY_WINDOW`` cycles are measured. A 3D creature that settles later
-needs ``cycles`` to match (the fish: 12)."""
+needs ``cycles`` to match (the fish's straight gait: 13, settled from its 11th);
+``prepare_optimization`` notes a start that has not settled."""
 
 MIN_SPEED_SHARE = 0.75
 """Without ``min_speed``, the efficiency objective asks for this share of the starting

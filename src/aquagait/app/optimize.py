@@ -31,6 +31,7 @@ from aquagait.app.swim import SwimSetup, prepare_swim
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
+from aquagait.metrics import SETTLED, Cycles, settled_cycle
 from aquagait.objectives import EFFICIENCY_CYCLES, MIN_SPEED_SHARE, OBJECTIVES
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
@@ -117,11 +118,12 @@ class SwimObjective:
                 values[name] = float(f"{values[name]:.6g}")
         return values
 
-    def cruise(self, params) -> tuple[float, float]:
+    def cruise(self, params) -> tuple[float, float, np.ndarray]:
         """Speed [m/s] and cost of transport [J/(kg m)] of the gait over the sample's last
-        cycles (``objectives.cruise``)."""
+        cycles (``objectives.cruise``), and the distance of each of its whole cycles [m]."""
         _, scene, traj, period = self._swim(params)
-        return objectives.cruise(scene.model, traj, self.direction, period)
+        speed, cost = objectives.cruise(scene.model, traj, self.direction, period)
+        return speed, cost, Cycles(scene.model, traj, period).distances()
 
     def _swim(self, params):
         creature, scene = _scene(self.creature, self.resolution, self.cell_size, self.fluid,
@@ -448,7 +450,7 @@ def _check_free_period(creature: Creature, maneuver: str, free_period: bool) -> 
 def _efficiency(objective: SwimObjective, x0, min_speed) -> tuple[SwimObjective, tuple]:
     """The efficiency objective with its unit (the start's cost of transport) and its
     speed (given, or ``MIN_SPEED_SHARE`` of the start's), and notes saying which."""
-    speed, cost = objective.cruise(x0)
+    speed, cost, distances = objective.cruise(x0)
     if not (np.isfinite(cost) and cost > 0):
         raise OptimizationSetupError(
             f"the starting gait swims {speed:.3g} m/s over its last "
@@ -460,7 +462,16 @@ def _efficiency(objective: SwimObjective, x0, min_speed) -> tuple[SwimObjective,
     if min_speed is None:
         min_speed = MIN_SPEED_SHARE * speed
         note += f"; the minimum speed is {MIN_SPEED_SHARE:.0%} of its speed, {min_speed:.3g} m/s"
-    return replace(objective, min_speed=float(min_speed), reference_cost=float(cost)), (note,)
+    notes = (note,)
+    if settled_cycle(distances) is None:
+        n = distances.size  # at least 3 (_check_objective)
+        notes += (
+            f"the starting gait has not settled at cruise in the {n} cycles a sample swims: "
+            f"its cycle {n} swims {distances[-1] / distances[-3] - 1:+.0%} on its cycle {n - 2}, "
+            f"where cruise is within {SETTLED:.0%}; the search would rank gaits by figures "
+            "from before their cruise: give more --cycles",
+        )
+    return replace(objective, min_speed=float(min_speed), reference_cost=float(cost)), notes
 
 
 ROOM_DRAWS = 64
