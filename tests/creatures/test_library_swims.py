@@ -207,8 +207,9 @@ def test_the_propulsive_limbs_do_most_of_the_work(name, group):
 def test_an_efficient_gait_keeps_its_speed_cheaper_than_the_straight_one(name):
     """The efficiency objective's gait (docs/library.md, "Economical gaits"): at cruise it
     keeps the speed its search asked for (``--min-speed``, in its command) within 5 % (the
-    search measured two cycles of six, this the last of twenty) and costs less a metre than
-    the straight gait; an eel's or a fish's still beats as a wave from head to tail."""
+    search measured the last two of its ``--cycles``, this the last of twenty) and costs
+    less a metre than the straight gait; an eel's or a fish's still beats as a wave from
+    head to tail."""
     creature = ag.creatures.get(name)
     run, straight = long_swim(name, "efficient"), long_swim(name)
     m = run.metrics
