@@ -280,7 +280,7 @@ def test_the_efficiency_objective_is_measured_in_the_starting_gaits_cost():
     assert config["objective"] == "efficiency" and config["cruise_cycles"] == 2
     assert config["reference_cost_of_transport"] == cost and "efficiency" in setup.notes[0]
     # three cycles from rest are too few to cruise in (the third swims twice the first)
-    assert "has not settled at cruise in the 3 cycles a sample swims" in setup.notes[1]
+    assert "swum as a sample, is not yet at cruising speed after 3 cycle(s)" in setup.notes[1]
     settled = prepare_optimization("eel2d", objective="efficiency", cycles=7, **COARSE)
     assert not any("settled" in note for note in settled.notes)  # settled from cycle 4
     asked = prepare_optimization("eel2d", objective="efficiency", cycles=3, min_speed=10 * speed,

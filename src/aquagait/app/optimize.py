@@ -27,11 +27,11 @@ from aquagait import creatures, objectives
 from aquagait.app.coarse import coarse_grid
 from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature, find_gait
-from aquagait.app.swim import SwimSetup, prepare_swim
+from aquagait.app.swim import SwimSetup, prepare_swim, unsettled
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
-from aquagait.metrics import SETTLED, Cycles, settled_cycle
+from aquagait.metrics import Cycles, settled_cycle
 from aquagait.objectives import EFFICIENCY_CYCLES, MIN_SPEED_SHARE, OBJECTIVES
 from aquagait.optimize import Problem, Result, Settings, optimize
 from aquagait.sim import EulerFluid, FluidModel, Scene, fluid_model, init_state, make_scene, rollout
@@ -464,12 +464,9 @@ def _efficiency(objective: SwimObjective, x0, min_speed) -> tuple[SwimObjective,
         note += f"; the minimum speed is {MIN_SPEED_SHARE:.0%} of its speed, {min_speed:.3g} m/s"
     notes = (note,)
     if settled_cycle(distances) is None:
-        n = distances.size  # at least 3 (_check_objective)
         notes += (
-            f"the starting gait has not settled at cruise in the {n} cycles a sample swims: "
-            f"its cycle {n} swims {distances[-1] / distances[-3] - 1:+.0%} on its cycle {n - 2}, "
-            f"where cruise is within {SETTLED:.0%}; the search would rank gaits by figures "
-            "from before their cruise: give more --cycles",
+            f"the starting gait, swum as a sample, is {unsettled(distances)}: the search "
+            "would rank gaits by figures from before their cruise; give more --cycles",
         )
     return replace(objective, min_speed=float(min_speed), reference_cost=float(cost)), notes
 

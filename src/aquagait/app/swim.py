@@ -255,14 +255,19 @@ def measure(model, trajectory: Trajectory, period: float) -> tuple[dict, tuple[s
     metrics.update(attitude_metrics(model, trajectory, period))
     if metrics["settled"]:
         return metrics, ()
-    d = metrics["cycle_distances"]
+    why = unsettled(metrics["cycle_distances"])
+    return metrics, (f"{why}; no cruise figures: swim longer (--seconds)",)
+
+
+def unsettled(distances) -> str:
+    """Why a swim has not settled at cruise (``metrics.settled_cycle``), in words, from the
+    distance of each of its whole cycles [m], (n,)."""
+    d = distances
     why = f"not yet at cruising speed after {len(d)} cycle(s)"
     if len(d) >= 3:
         change = abs(d[-1] - d[-3]) / d[-1] if d[-1] > 0 else float("inf")
         why += f": the last cycle swam {d[-1]:.3g} m, {change:.1%} off the one two before"
-    return metrics, (
-        f"{why} (settled: within {SETTLED:.0%}); no cruise figures: swim longer (--seconds)",
-    )
+    return f"{why} (settled: within {SETTLED:.0%})"
 
 
 def swim_config(setup: SwimSetup, trajectory: Trajectory) -> dict:
