@@ -12,7 +12,12 @@ from aquagait import cli
 from aquagait.app import prepare_swim
 from aquagait.app.errors import SetupError
 from aquagait.app.follow import prepare_follow
-from aquagait.app.optimize import OptimizationSetupError, SwimObjective, prepare_optimization
+from aquagait.app.optimize import (
+    OptimizationSetupError,
+    SwimObjective,
+    best_swim,
+    prepare_optimization,
+)
 from aquagait.control import GaitSpec
 from aquagait.control.gait import FREE_PERIOD
 from aquagait.creatures import CreatureError, load
@@ -85,13 +90,15 @@ def test_the_search_frees_one_period_and_records_it(eel):
     assert config["seconds_per_sample"] == 2.0  # the distance objective: the same time for all
 
 
-def test_the_efficiency_search_swims_each_sample_its_own_cycles(eel):
+def test_the_efficiency_search_swims_each_sample_its_own_cycles(tmp_path, eel):
     setup = prepare_optimization("eel2d", free_period=True, objective="efficiency", cycles=3,
                                  **COARSE)  # fmt: skip
     objective = setup.objective
     assert objective.cycles == 3.0 and setup.config()["cycles_per_sample"] == 3.0
     _, _, traj, period = objective._swim(np.r_[eel.default_gait, 0.5])
     assert period == 0.5 and traj.time[-1] == pytest.approx(1.5)
+    write_gait(tmp_path / "gait.json", eel, np.r_[eel.default_gait, 0.5], free_period=True)
+    assert best_swim(setup, tmp_path).seconds == pytest.approx(1.5)  # the best swims as a sample
 
 
 @pytest.mark.parametrize(

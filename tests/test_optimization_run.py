@@ -288,6 +288,25 @@ def test_the_efficiency_objective_is_measured_in_the_starting_gaits_cost():
     assert asked.objective(setup.problem.x0) > 1 + 0.8 * 10  # 90 % short of its speed
 
 
+def test_an_efficiency_search_whose_best_gait_has_not_settled_says_so(tmp_path, capsys):
+    """Three cycles from rest are too few for eel2d to cruise in, for its start and so for
+    the gaits drawn about it: the swim of the best gait after the search, as long as a
+    sample, says the search ranked them before their cruise, on the terminal and in its
+    config.json, and how to search again from it."""
+    out = tmp_path / "eel"
+    argv = ["optimize", "eel2d", "--objective", "efficiency", "--cycles", "3", "--generations",
+            "1", "--popsize", "2", "--workers", "1", "--resolution", "48", "28", "--cell-size",
+            "0.025", "--out", str(out), "--no-video"]  # fmt: skip
+    assert cli.main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "not yet at cruising speed after 3 cycle(s)" in printed  # the swim's own note
+    said = re.search(r"the best gait has not settled within a sample's 3 cycles .* search "
+                     r"again with more --cycles, from it \(--start (\S+) ", printed)  # fmt: skip
+    assert said and Path(said[1]) == out / "gait.json"
+    notes = json.loads((out / "config.json").read_text())["notes"]
+    assert any(note.startswith("an efficiency search: the best gait") for note in notes)
+
+
 @pytest.mark.parametrize(
     "flags, message",
     [

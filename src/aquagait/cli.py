@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import math
 import sys
 import time
@@ -128,8 +129,9 @@ def _cmd_swim(args) -> int:
     return _swim_and_write(setup, out, not args.no_video)
 
 
-def _swim_and_write(setup, out: Path, video: bool, extra_config=None) -> int:
-    """Swim a prepared setup, write its run directory and (optionally) its video."""
+def _swim_and_write(setup, out: Path, video: bool, extra_config=None, notes=None) -> int:
+    """Swim a prepared setup, write its run directory and (optionally) its video;
+    ``notes(run)``, if given, adds notes on the swim to its config.json and summary."""
     from aquagait.app import RenderUnavailable, run_swim, swim_summary, write_swim
     from aquagait.sim import SimulationError
 
@@ -137,6 +139,8 @@ def _swim_and_write(setup, out: Path, video: bool, extra_config=None) -> int:
         run = run_swim(setup, progress=ProgressBar("swimming"))
     except SimulationError as err:
         return _fail("swim", err, status=1)
+    if notes is not None:
+        run = dataclasses.replace(run, notes=run.notes + notes(run))
     try:
         write_swim(run, out, video, extra_config, progress=ProgressBar("rendering"))
     except RenderUnavailable as err:
@@ -258,7 +262,7 @@ def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, 
     worker for a minute): the checkpoint keeps the last complete generation.
     """
     from aquagait.app import run_optimization, write_optimization
-    from aquagait.app.optimize import best_swim
+    from aquagait.app.optimize import best_swim, search_notes
     from aquagait.optimize import ExecutorLost
 
     try:
@@ -280,7 +284,8 @@ def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, 
     print(f"best objective {result.best_f:.4g} after {result.evaluations} samples "
           f"({result.stopped}{start})")  # fmt: skip
     swim = best_swim(setup, out, default_grid=default_grid, seconds=seconds)
-    return _swim_and_write(swim, out, video, extra_config={"optimization": setup.config()})
+    return _swim_and_write(swim, out, video, extra_config={"optimization": setup.config()},
+                           notes=lambda run: search_notes(setup, run, out))  # fmt: skip
 
 
 def _say_if_finished(out: Path, resume: bool) -> None:

@@ -27,7 +27,7 @@ from aquagait import creatures, objectives
 from aquagait.app.coarse import coarse_grid
 from aquagait.app.errors import SetupError
 from aquagait.app.resolve import creature_key, find_creature, find_gait
-from aquagait.app.swim import SwimSetup, prepare_swim, unsettled
+from aquagait.app.swim import SwimRun, SwimSetup, prepare_swim, unsettled
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT, gait_problems, maneuver_start
 from aquagait.io.gait import write_gait
@@ -471,6 +471,22 @@ def _efficiency(objective: SwimObjective, x0, min_speed) -> tuple[SwimObjective,
     return replace(objective, min_speed=float(min_speed), reference_cost=float(cost)), notes
 
 
+def search_notes(setup: OptimizationSetup, run: SwimRun, out) -> tuple[str, ...]:
+    """What the best gait's swim (``best_swim``, as long as a sample) says about the
+    search: an efficiency search whose best gait has not settled at cruise within the
+    sample's cycles ranked its gaits before their cruise (its start may have settled
+    in time, and ``prepare_optimization``'s note then said nothing)."""
+    if setup.objective.objective != "efficiency" or run.metrics.get("settled"):
+        return ()
+    cycles = len(run.metrics["cycle_distances"])
+    return (
+        f"an efficiency search: the best gait has not settled within a sample's {cycles} "
+        "cycles (above), so the search ranked its gaits by figures from before their cruise; "
+        f"search again with more --cycles, from it (--start {Path(out) / 'gait.json'} "
+        "--step 0.1)",
+    )
+
+
 ROOM_DRAWS = 64
 """Gaits drawn around the start to judge whether the grid holds the search's samples."""
 
@@ -590,16 +606,20 @@ def best_swim(
         out: its run directory (holding ``gait.json``).
         default_grid: swim on the creature's default grid instead (the demo
             searches on a coarse grid, then swims on the fine one).
-        seconds: simulated time [s]; default the optimization's per sample.
+        seconds: simulated time [s]; default the optimization's per sample (a sample's
+            cycles of the best gait's own period, if each sample swims its own).
     """
     objective = setup.target  # a coarse-to-fine search is for its target grid
     resolution, cell_size = (
         (None, None) if default_grid else (objective.resolution, objective.cell_size)
     )
-    return prepare_swim(
+    swim = prepare_swim(
         objective.creature, gait=Path(out) / "gait.json", seconds=seconds or objective.seconds,
         fluid=objective.fluid, resolution=resolution, cell_size=cell_size,
     )  # fmt: skip
+    if seconds is None and objective.cycles is not None:  # a sample swims its own cycles
+        swim = replace(swim, seconds=objective.cycles * swim.period)
+    return swim
 
 
 def _tuple(resolution):
