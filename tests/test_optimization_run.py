@@ -5,6 +5,7 @@ import json
 import pickle
 import re
 import shlex
+import signal
 import subprocess
 import sys
 import time
@@ -12,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from tests.optimize.optimize_cases import gone
 
 import aquagait as ag
 from aquagait import cli
@@ -149,6 +151,62 @@ def test_optimize_command_writes_the_run_directory_and_resumes(tmp_path, capsys)
     assert "resume" in capsys.readouterr().err
     assert cli.main(argv + ["--resume"]) == 0
     assert json.loads((out / "gait.json").read_text())["params"] == gait["params"]
+
+
+def test_sigterm_stops_a_search_with_its_workers_and_it_resumes(tmp_path):
+    """A batch system's SIGTERM (or a user's ``kill``) unwinds the command: its worker
+    processes, the forkserver and the resource tracker all exit with it (killed by
+    default, they outlived it for ever), one line says how to go on, and ``--resume``
+    goes on from the checkpoint."""
+    out = tmp_path / "eel"
+    argv = [sys.executable, "-m", "aquagait", "optimize", "eel2d", "--generations", "400",
+            "--popsize", "4", "--workers", "2", "--resolution", "48", "28", "--cell-size",
+            "0.025", "--out", str(out), "--no-video"]  # fmt: skip
+    search = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not (out / "checkpoint.pkl").exists():  # a whole generation, on two workers
+            assert search.poll() is None and time.monotonic() < deadline
+            time.sleep(0.2)
+        family = _descendants(search.pid)
+        assert len(family) >= 3  # the forkserver, the resource tracker, a worker
+        search.send_signal(signal.SIGTERM)
+        _, err = search.communicate(timeout=60)
+    finally:
+        if search.poll() is None:
+            search.kill()
+            search.communicate()
+    assert search.returncode == 143
+    assert "optimize: terminated (SIGTERM)" in err and "with --resume goes on" in err
+    deadline = time.monotonic() + 10
+    while not all(gone(pid) for pid in family):
+        assert time.monotonic() < deadline, f"left running: {[p for p in family if not gone(p)]}"
+        time.sleep(0.1)
+    last = int(np.loadtxt(out / "optimization.csv", delimiter=",", skiprows=1, ndmin=2)[-1, 0])
+    resumed = subprocess.Popen([*argv, "--resume"], stderr=subprocess.PIPE, text=True)
+    try:
+        lines = (line for line in resumed.stderr if line.startswith("generation"))
+        assert int(next(lines).split()[1].split("/")[0]) == last + 1
+    finally:
+        resumed.send_signal(signal.SIGTERM)
+        resumed.communicate(timeout=60)
+
+
+def _descendants(pid: int) -> list[int]:
+    """The processes descended from ``pid`` (Linux's /proc)."""
+    parents = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except (FileNotFoundError, ProcessLookupError):
+            continue
+        parents[int(stat.parent.name)] = int(fields[1])
+    found, frontier = [], [pid]
+    while frontier:
+        children = [child for child, parent in parents.items() if parent in frontier]
+        found += children
+        frontier = children
+    return found
 
 
 def test_the_default_search_stops_by_itself_and_a_resume_after_it_says_so(tmp_path, capsys):

@@ -139,6 +139,15 @@ class DiesWhenTaken:
         os._exit(3)
 
 
+def gone(pid: int) -> bool:
+    """The process has exited (a zombie not yet reaped by its parent counts as exited)."""
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            return stat.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except FileNotFoundError:
+        return True
+
+
 def within(x, limit: float = 0.5) -> bool:
     """Feasible when x[0] <= limit (a stand-in for joint limits)."""
     return bool(x[0] <= limit)

@@ -24,6 +24,7 @@ from optimize_cases import (
     DiesWhenTaken,
     Slow,
     Sphere,
+    gone,
     needs_dask,
     same_run,
     sphere_problem,
@@ -123,6 +124,19 @@ def test_a_worker_started_as_the_pool_breaks_is_killed(tmp_path, monkeypatch):
         for worker in started:
             worker.kill()
         executor.shutdown()
+
+
+def test_a_with_block_left_by_an_exception_kills_its_workers_at_once(tmp_path):
+    """A sample can run for minutes (3D); a search stopped by an error, Ctrl-C or the
+    command's SIGTERM does not wait for it, nor leaves its worker running."""
+    calls = tmp_path / "calls"
+    begun = time.monotonic()
+    with pytest.raises(KeyboardInterrupt), ProcessExecutor(2) as executor:
+        executor.submit(Slow(Sphere(np.zeros(4)), 600, str(calls)), np.zeros(4))
+        until(lambda: calls.exists() and calls.read_text().strip())  # a worker runs it
+        raise KeyboardInterrupt
+    assert time.monotonic() - begun < 60  # the sample would have slept 600 s
+    until(lambda: gone(int(calls.read_text())), seconds=10)
 
 
 def until(condition, seconds: float = 30.0) -> None:

@@ -154,6 +154,25 @@ class ProcessExecutor(cf.Executor):
             self._closed = True
         self._pool.shutdown(wait=wait, cancel_futures=cancel_futures)
 
+    def kill(self) -> None:
+        """Stop now: drop the waiting tasks and kill the workers, whatever they are doing."""
+        with self._lock:
+            self._closed = True
+            workers = list((getattr(self._pool, "_processes", None) or {}).values())
+            self._pool.shutdown(wait=False, cancel_futures=True)
+            for worker in workers:
+                worker.kill()
+
+    def __exit__(self, exc_type, exc, traceback) -> bool:
+        """A `with` block left normally waits for the running tasks; one left by an
+        exception (an error, Ctrl-C, the command's SIGTERM) kills the workers instead,
+        as a 3D sample can take minutes and nothing would take its value."""
+        if exc_type is None:
+            self.shutdown(wait=True)
+        else:
+            self.kill()
+        return False
+
 
 def local_executor(workers: int | None = None) -> ProcessExecutor:
     """Worker processes on this machine; None: one per available core."""
