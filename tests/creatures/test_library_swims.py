@@ -72,7 +72,8 @@ ABOVE_ANIMALS = {
     "the search's floor; a finer grid raises it, to 0.50 at half the cell)",
     "fish": "St 0.52 (docs/library.md, Economical gaits: a smaller stroke raises it, to 0.62 "
     "at three quarters of the amplitude, as the distance a cycle falls faster than the beat; "
-    "so does a grid that resolves the caudal fin, to 0.65 at half the cell)",
+    "so does a grid that resolves the caudal fin, to 0.65 at half the cell; a fin 1.5 times "
+    "as tall gives 0.50)",
 }
 """``efficient`` gaits whose cruising Strouhal number stays above the animals' range, and
 what keeps them there (issue 32 asks for the cause where the range is not met)."""
