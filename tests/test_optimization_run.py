@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from tests.optimize.optimize_cases import gone
+from tests.optimize.optimize_cases import descendants, gone
 
 import aquagait as ag
 from aquagait import cli
@@ -168,7 +168,7 @@ def test_sigterm_stops_a_search_with_its_workers_and_it_resumes(tmp_path):
         while not (out / "checkpoint.pkl").exists():  # a whole generation, on two workers
             assert search.poll() is None and time.monotonic() < deadline
             time.sleep(0.2)
-        family = _descendants(search.pid)
+        family = descendants(search.pid)
         assert len(family) >= 3  # the forkserver, the resource tracker, a worker
         search.send_signal(signal.SIGTERM)
         _, err = search.communicate(timeout=60)
@@ -190,23 +190,6 @@ def test_sigterm_stops_a_search_with_its_workers_and_it_resumes(tmp_path):
     finally:
         resumed.send_signal(signal.SIGTERM)
         resumed.communicate(timeout=60)
-
-
-def _descendants(pid: int) -> list[int]:
-    """The processes descended from ``pid`` (Linux's /proc)."""
-    parents = {}
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-        except (FileNotFoundError, ProcessLookupError):
-            continue
-        parents[int(stat.parent.name)] = int(fields[1])
-    found, frontier = [], [pid]
-    while frontier:
-        children = [child for child, parent in parents.items() if parent in frontier]
-        found += children
-        frontier = children
-    return found
 
 
 def test_the_default_search_stops_by_itself_and_a_resume_after_it_says_so(tmp_path, capsys):

@@ -139,13 +139,34 @@ class DiesWhenTaken:
         os._exit(3)
 
 
-def gone(pid: int) -> bool:
-    """The process has exited (a zombie not yet reaped by its parent counts as exited)."""
+def _stat(pid: int) -> list[str] | None:
+    """The fields of ``/proc/PID/stat`` after the command's name (state, parent, ...),
+    or None once the process is gone."""
     try:
         with open(f"/proc/{pid}/stat") as stat:
-            return stat.read().rsplit(")", 1)[1].split()[0] == "Z"
-    except FileNotFoundError:
-        return True
+            return stat.read().rsplit(")", 1)[1].split()
+    except (FileNotFoundError, ProcessLookupError):
+        return None
+
+
+def gone(pid: int) -> bool:
+    """The process has exited (a zombie not yet reaped by its parent counts as exited)."""
+    fields = _stat(pid)
+    return fields is None or fields[0] == "Z"
+
+
+def descendants(pid: int) -> list[int]:
+    """The processes descended from ``pid`` (Linux's /proc)."""
+    parents = {}
+    for entry in os.listdir("/proc"):
+        fields = _stat(int(entry)) if entry.isdigit() else None
+        if fields is not None:
+            parents[int(entry)] = int(fields[1])
+    found, frontier = [], [pid]
+    while frontier:
+        frontier = [child for child, parent in parents.items() if parent in frontier]
+        found += frontier
+    return found
 
 
 def within(x, limit: float = 0.5) -> bool:

@@ -138,12 +138,8 @@ class ProcessExecutor(cf.Executor):
         takes for a lost sample.
         """
         log.warning("a worker process died; starting %d fresh ones", self.workers)
-        old, out = self._pool, self._out
-        workers = list((getattr(old, "_processes", None) or {}).values())  # shutdown drops it
-        old.shutdown(wait=False, cancel_futures=True)
-        for worker in workers:
-            worker.kill()
-        for future in list(out):
+        _kill(self._pool)
+        for future in list(self._out):
             with contextlib.suppress(cf.InvalidStateError):  # the pool failed it meanwhile
                 future.set_exception(BrokenProcessPool("the worker pool broke"))
         self._pool, self._out = self._new_pool(), set()
@@ -158,10 +154,7 @@ class ProcessExecutor(cf.Executor):
         """Stop now: drop the waiting tasks and kill the workers, whatever they are doing."""
         with self._lock:
             self._closed = True
-            workers = list((getattr(self._pool, "_processes", None) or {}).values())
-            self._pool.shutdown(wait=False, cancel_futures=True)
-            for worker in workers:
-                worker.kill()
+            _kill(self._pool)
 
     def __exit__(self, exc_type, exc, traceback) -> bool:
         """A `with` block left normally waits for the running tasks; one left by an
@@ -172,6 +165,14 @@ class ProcessExecutor(cf.Executor):
         else:
             self.kill()
         return False
+
+
+def _kill(pool: cf.ProcessPoolExecutor) -> None:
+    """Shut ``pool`` down without waiting, dropping its queued tasks, and kill its workers."""
+    workers = list((getattr(pool, "_processes", None) or {}).values())  # shutdown drops it
+    pool.shutdown(wait=False, cancel_futures=True)
+    for worker in workers:
+        worker.kill()
 
 
 def local_executor(workers: int | None = None) -> ProcessExecutor:
