@@ -144,6 +144,22 @@ def test_a_turn_is_rewarded_up_to_a_quarter_turn_and_no_further(eel):
     assert obj.turning(eel.model, trajectory(path), left) == pytest.approx(4.1)
 
 
+def test_a_turn_limit_caps_the_rotation_the_objective_rewards(eel):
+    """``total``'s ``turn_limit``: past it more rotation earns nothing, so travel is what a
+    search can still buy; below it the reward is the rotation, as with the paper's cap."""
+    scene = ag.make_scene(eel, fluid="euler")
+    d, r = obj.maneuver_goal("turn-left", 2)
+    path = np.tile(eel.model.qpos0, (2, 1))
+    path[1, 2] += 1.0  # a radian to the left, on the spot
+
+    def value(limit):
+        return obj.total(scene, trajectory(path), d, 1.0, axis=r, turn_limit=limit)
+
+    assert value(obj.TURN) == pytest.approx(-1.0)  # the paper's cap is not reached
+    assert value(0.25) == pytest.approx(-0.25)
+    assert value(2.0) == pytest.approx(-1.0)
+
+
 def test_pitching_up_turns_the_nose_up_and_only_unwanted_rotation_deviates():
     fish = ag.creatures.get("fish").model
     path = np.tile(fish.qpos0, (2, 1))

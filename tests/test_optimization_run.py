@@ -134,6 +134,38 @@ def test_the_deviation_weight_scales_the_drift_and_turning_term(tmp_path, capsys
     assert again.objective.weights.deviation == 1.0
 
 
+def test_a_turn_limit_reaches_the_manoeuvre_objective_and_the_gaits_command(tmp_path, capsys):
+    """``--turn-limit`` caps the rotation a manoeuvre's samples are rewarded for: recorded in
+    config.json and in a shipped gait's command (with the paper's objective's ``--cycles``
+    when not its 2), a different one refused on resume, and refused for straight swimming
+    or as no angle."""
+    setup = prepare_optimization("eel2d", maneuver="turn-left", turn_limit=0.3, **COARSE)
+    assert setup.objective.turn_limit == 0.3 and setup.config()["turn_limit"] == 0.3
+    assert prepare_optimization("eel2d", **COARSE).config()["turn_limit"] is None
+    with pytest.raises(OptimizationSetupError, match="--turn-limit is for a manoeuvre"):
+        prepare_optimization("eel2d", turn_limit=0.3, **COARSE)
+    with pytest.raises(OptimizationSetupError, match="turn limit must be an angle > 0"):
+        prepare_optimization("eel2d", maneuver="turn-left", turn_limit=0.0, **COARSE)
+
+    out = tmp_path / "eel"
+    argv = ["optimize", "eel2d", "--maneuver", "turn-left", "--turn-limit", "0.3",
+            "--cycles", "1.5", "--generations", "1", "--popsize", "4", "--workers", "1",
+            "--resolution", "48", "28", "--cell-size", "0.025", "--out", str(out),
+            "--no-video"]  # fmt: skip
+    assert cli.main(argv) == 0
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+    from ship_gait import provenance
+
+    command = provenance(out)["command"]
+    assert "--turn-limit 0.3" in command and "--cycles 1.5" in command
+    again = cli.optimization_setup(cli.build_parser().parse_args(shlex.split(command)[1:]))
+    assert again.objective.turn_limit == 0.3
+    assert again.objective.seconds == setup.objective.seconds * 1.5 / 2
+    capsys.readouterr()
+    assert cli.main([*argv[:5], "0.4", *argv[6:], "--resume"]) == 2
+    assert "objective.turn_limit: 0.3 in the checkpoint, 0.4 now" in capsys.readouterr().err
+
+
 def test_optimize_command_writes_the_run_directory_and_resumes(tmp_path, capsys):
     out = tmp_path / "eel"
     argv = ["optimize", "eel2d", "--generations", "2", "--popsize", "4", "--workers", "1"]

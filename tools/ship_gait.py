@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import math
 import re
 import shlex
 from datetime import UTC, datetime
@@ -29,7 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from aquagait.objectives import Weights
+from aquagait.app.optimize import DEFAULT_CYCLES
+from aquagait.objectives import TURN, Weights
 
 CREATURES = Path(__file__).resolve().parents[1] / "src" / "aquagait" / "creatures"
 
@@ -70,10 +72,14 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
         command += ["--start", opt["start"]]
     if opt.get("step") is not None:
         command += ["--step", f"{opt['step']:g}"]
+    if opt.get("turn_limit") not in (None, TURN):  # the paper's: left out
+        command += ["--turn-limit", f"{opt['turn_limit']:g}"]
+    cycles = opt.get("cycles_per_sample") or opt["seconds_per_sample"] / config["period"]
     if opt.get("objective", "distance") != "distance":  # with what it was measured by
-        cycles = opt.get("cycles_per_sample") or opt["seconds_per_sample"] / config["period"]
         command += ["--objective", opt["objective"], "--min-speed", f"{opt['min_speed']:.6g}",
                     "--cycles", f"{cycles:g}"]  # fmt: skip
+    elif not math.isclose(cycles, DEFAULT_CYCLES):
+        command += ["--cycles", f"{cycles:g}"]
     if opt.get("free_period"):
         command += ["--free-period"]
     metrics = json.loads((run / "metrics.json").read_text())

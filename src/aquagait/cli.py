@@ -21,6 +21,7 @@ from aquagait.objectives import (
     MANEUVERS,
     MIN_SPEED_SHARE,
     OBJECTIVES,
+    TURN,
 )
 from aquagait.sim import FLUIDS
 
@@ -239,6 +240,7 @@ def optimization_setup(args):
         min_speed=args.min_speed,
         cycles=args.cycles,
         free_period=args.free_period,
+        turn_limit=args.turn_limit,
     )
 
 
@@ -592,6 +594,10 @@ def build_parser() -> argparse.ArgumentParser:
     optimize.add_argument("--maneuver", choices=MANEUVERS, default="straight",
                           help="learn a manoeuvre (paper §5; 2D creatures turn, 3D ones "
                           "also pitch): offsets freed, rotation rewarded")  # fmt: skip
+    optimize.add_argument("--turn-limit", type=float, metavar="RAD",
+                          help="a manoeuvre: the most rotation about its axis rewarded over "
+                          f"a sample [rad] (default {TURN:.4g}, the paper's 90 degrees; "
+                          "smaller, the search buys travel past it)")  # fmt: skip
     optimize.add_argument("--start", metavar="FILE|NAME",
                           help="start the search from this gait: a gait.json or a shipped "
                           "gait's name (default: the shipped straight gait)")  # fmt: skip

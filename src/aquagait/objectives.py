@@ -269,15 +269,16 @@ def total(
     weights: Weights = Weights(),  # noqa: B008 (frozen)
     axis=None,
     period: float | None = None,
+    turn_limit: float = TURN,
 ) -> float:
-    """The objective ``E`` of a run (module docstring); a manoeuvre's with its ``axis``;
-    with the gait's ``period`` [s], the rotation is measured free of recoil
-    (``rotation_vector``)."""
+    """The objective ``E`` of a run (module docstring); a manoeuvre's with its ``axis``,
+    its rotation rewarded up to ``turn_limit`` [rad]; with the gait's ``period`` [s], the
+    rotation is measured free of recoil (``rotation_vector``)."""
     model = scene.model
     value = distance(model, traj, direction)
     value += weights.deviation * deviation(model, traj, direction, axis, period)
     if axis is not None:
-        value += turning(model, traj, axis, period=period)
+        value += turning(model, traj, axis, turn_limit, period)
     value += energy(traj, energy_bound, weights.energy)
     if weights.collision:
         value += weights.collision * collision(scene, traj)

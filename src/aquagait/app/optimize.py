@@ -80,6 +80,8 @@ class SwimObjective:
         cycles: when set, a sample swims this many of its own gait cycles instead of
             ``seconds`` (the efficiency objective with a free period: it measures whole
             cycles at cruise, and a slower rhythm takes longer to reach it).
+        turn_limit: a manoeuvre: the most rotation about ``axis`` rewarded over a
+            sample [rad] (``objectives.TURN``, the paper's, by default).
     """
 
     creature: str
@@ -97,6 +99,7 @@ class SwimObjective:
     reference_cost: float | None = None
     free_period: bool = False
     cycles: float | None = None
+    turn_limit: float = objectives.TURN
 
     def __call__(self, params) -> float:
         creature, scene, traj, period = self._swim(params)
@@ -105,14 +108,18 @@ class SwimObjective:
                                                self.min_speed, self.reference_cost,
                                                self.weights)  # fmt: skip
         return objectives.total(scene, traj, self.direction, creature.energy_bound, self.weights,
-                                axis=self.axis, period=period)  # fmt: skip
+                                axis=self.axis, period=period,
+                                turn_limit=self.turn_limit)  # fmt: skip
 
     def fingerprint(self) -> dict:
         """What makes it the same function, which a resumed search must share (``optimize``'s
         checkpoint): every field; the two measured from the start's swim (``reference_cost``
         and the default ``min_speed``) to six digits, as a swim's last bits may differ
-        between machines."""
+        between machines. ``turn_limit`` is left out at its default, so checkpoints from
+        before it existed resume."""
         values = asdict(self)
+        if values["turn_limit"] == objectives.TURN:
+            del values["turn_limit"]
         for name in ("min_speed", "reference_cost"):
             if values[name] is not None:
                 values[name] = float(f"{values[name]:.6g}")
@@ -206,6 +213,7 @@ class OptimizationSetup:
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
             direction=list(o.direction), objective=o.objective, min_speed=o.min_speed,
             free_period=o.free_period, cycles_per_sample=o.cycles,
+            turn_limit=None if o.axis is None else o.turn_limit,
             reference_cost_of_transport=o.reference_cost,
             cruise_cycles=objectives.EFFICIENCY_WINDOW if o.objective == "efficiency" else None,
             weights=vars(o.weights), energy_bound=self.creature.energy_bound,
@@ -264,6 +272,7 @@ def prepare_optimization(
     objective: str = "distance",
     min_speed: float | None = None,
     free_period: bool = False,
+    turn_limit: float | None = None,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -320,6 +329,10 @@ def prepare_optimization(
             time (``cycles`` of the creature's period), so a faster rhythm is paid
             for in energy; the efficiency objective swims each sample ``cycles`` of
             its own period and measures the last whole ones.
+        turn_limit: a manoeuvre: the most rotation about its axis the objective rewards
+            over a sample [rad]; None: ``objectives.TURN`` (the paper's 90 degrees).
+            Smaller, a slow turner's search buys travel past it instead of more rotation
+            (a radian is worth a metre, more than a small creature's length).
 
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
@@ -348,6 +361,7 @@ def prepare_optimization(
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     _check_free_period(creature, maneuver, free_period)
+    turn_limit = _turn_limit(maneuver, turn_limit)
     gait = creature.spec(maneuver, free_period)
     x0 = _start(creature, maneuver, start, free_period)
     if step is not None and not 0 < step <= 1:
@@ -370,6 +384,7 @@ def prepare_optimization(
         axis=None if axis is None else tuple(axis.tolist()), objective=kind,
         free_period=free_period,
         cycles=float(cycles) if free_period and kind == "efficiency" else None,
+        turn_limit=turn_limit,
     )  # fmt: skip
     efficiency_notes = ()
     if kind == "efficiency":
@@ -430,6 +445,24 @@ def _check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
             f"the efficiency objective measures the last {objectives.EFFICIENCY_WINDOW} "
             f"cycles of a swim from rest: give at least {least} cycles, got {cycles:g}"
         )
+
+
+def _turn_limit(maneuver: str, limit) -> float:
+    """The rotation a manoeuvre is rewarded for, at most [rad]: ``limit`` checked, or the
+    paper's ``objectives.TURN``."""
+    if limit is None:
+        return objectives.TURN
+    if maneuver == STRAIGHT:
+        raise OptimizationSetupError(
+            "--turn-limit is for a manoeuvre (--maneuver turn-left, pitch-up, ...): "
+            "swimming straight rewards no rotation"
+        )
+    if not (np.isfinite(limit) and limit > 0):
+        raise OptimizationSetupError(
+            f"turn limit must be an angle > 0 [rad] (the paper's is {objectives.TURN:.4g}), "
+            f"got {limit}"
+        )
+    return float(limit)
 
 
 def _check_free_period(creature: Creature, maneuver: str, free_period: bool) -> None:
