@@ -596,7 +596,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "also pitch): offsets freed, rotation rewarded")  # fmt: skip
     optimize.add_argument("--turn-limit", type=float, metavar="RAD",
                           help="a manoeuvre: the most rotation about its axis rewarded over "
-                          f"a sample [rad] (default {TURN:.4g}, the paper's 90 degrees; "
+                          f"a sample [rad] (default {TURN:.4g}, 90 degrees; "
                           "smaller, the search buys travel past it)")  # fmt: skip
     optimize.add_argument("--start", metavar="FILE|NAME",
                           help="start the search from this gait: a gait.json or a shipped "

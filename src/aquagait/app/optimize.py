@@ -81,7 +81,7 @@ class SwimObjective:
             ``seconds`` (the efficiency objective with a free period: it measures whole
             cycles at cruise, and a slower rhythm takes longer to reach it).
         turn_limit: a manoeuvre: the most rotation about ``axis`` rewarded over a
-            sample [rad] (``objectives.TURN``, the paper's, by default).
+            sample [rad] (``objectives.TURN``, 90 degrees, by default).
     """
 
     creature: str
@@ -330,7 +330,7 @@ def prepare_optimization(
             for in energy; the efficiency objective swims each sample ``cycles`` of
             its own period and measures the last whole ones.
         turn_limit: a manoeuvre: the most rotation about its axis the objective rewards
-            over a sample [rad]; None: ``objectives.TURN`` (the paper's 90 degrees).
+            over a sample [rad]; None: ``objectives.TURN`` (90 degrees).
             Smaller, a slow turner's search buys travel past it instead of more rotation
             (a radian is worth a metre, more than a small creature's length).
 
@@ -448,8 +448,8 @@ def _check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
 
 
 def _turn_limit(maneuver: str, limit) -> float:
-    """The rotation a manoeuvre is rewarded for, at most [rad]: ``limit`` checked, or the
-    paper's ``objectives.TURN``."""
+    """The rotation a manoeuvre is rewarded for, at most [rad]: ``limit`` checked, or
+    ``objectives.TURN``."""
     if limit is None:
         return objectives.TURN
     if maneuver == STRAIGHT:
@@ -459,7 +459,7 @@ def _turn_limit(maneuver: str, limit) -> float:
         )
     if not (np.isfinite(limit) and limit > 0):
         raise OptimizationSetupError(
-            f"turn limit must be an angle > 0 [rad] (the paper's is {objectives.TURN:.4g}), "
+            f"turn limit must be an angle > 0 [rad] (the default is {objectives.TURN:.4g}), "
             f"got {limit}"
         )
     return float(limit)
