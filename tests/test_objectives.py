@@ -146,7 +146,7 @@ def test_a_turn_is_rewarded_up_to_a_quarter_turn_and_no_further(eel):
 
 def test_a_turn_limit_caps_the_rotation_the_objective_rewards(eel):
     """``total``'s ``turn_limit``: past it more rotation earns nothing, so travel is what a
-    search can still buy; below it the reward is the rotation, as with the paper's cap."""
+    search can still buy; below it the reward is the rotation, as with the default cap."""
     scene = ag.make_scene(eel, fluid="euler")
     d, r = obj.maneuver_goal("turn-left", 2)
     path = np.tile(eel.model.qpos0, (2, 1))
@@ -155,7 +155,7 @@ def test_a_turn_limit_caps_the_rotation_the_objective_rewards(eel):
     def value(limit):
         return obj.total(scene, trajectory(path), d, 1.0, axis=r, turn_limit=limit)
 
-    assert value(obj.TURN) == pytest.approx(-1.0)  # the paper's cap is not reached
+    assert value(obj.TURN) == pytest.approx(-1.0)  # the default cap is not reached
     assert value(0.25) == pytest.approx(-0.25)
     assert value(2.0) == pytest.approx(-1.0)
 

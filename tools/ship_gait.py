@@ -72,7 +72,7 @@ def provenance(run: Path, default_start: str | None = None) -> dict:
         command += ["--start", opt["start"]]
     if opt.get("step") is not None:
         command += ["--step", f"{opt['step']:g}"]
-    if opt.get("turn_limit") not in (None, TURN):  # the paper's: left out
+    if opt.get("turn_limit") not in (None, TURN):  # the default: left out
         command += ["--turn-limit", f"{opt['turn_limit']:g}"]
     cycles = opt.get("cycles_per_sample") or opt["seconds_per_sample"] / config["period"]
     if opt.get("objective", "distance") != "distance":  # with what it was measured by
