@@ -125,13 +125,19 @@ def test_the_deviation_weight_scales_the_drift_and_turning_term(tmp_path, capsys
             "--deviation-weight", "1", "--resolution", "48", "28", "--cell-size", "0.025",
             "--out", str(out), "--no-video"]  # fmt: skip
     assert cli.main(argv) == 0
+    command, again = _shipped_command(out)
+    assert "--deviation-weight 1" in command
+    assert again.objective.weights.deviation == 1.0
+
+
+def _shipped_command(run: Path):
+    """The command a gait shipped from ``run`` records (``tools/ship_gait.py``), and the
+    search it sets up when parsed again."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
     from ship_gait import provenance
 
-    command = provenance(out)["command"]
-    assert "--deviation-weight 1" in command
-    again = cli.optimization_setup(cli.build_parser().parse_args(shlex.split(command)[1:]))
-    assert again.objective.weights.deviation == 1.0
+    command = provenance(run)["command"]
+    return command, cli.optimization_setup(cli.build_parser().parse_args(shlex.split(command)[1:]))
 
 
 def test_a_turn_limit_reaches_the_manoeuvre_objective_and_the_gaits_command(tmp_path, capsys):
@@ -153,12 +159,8 @@ def test_a_turn_limit_reaches_the_manoeuvre_objective_and_the_gaits_command(tmp_
             "--resolution", "48", "28", "--cell-size", "0.025", "--out", str(out),
             "--no-video"]  # fmt: skip
     assert cli.main(argv) == 0
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-    from ship_gait import provenance
-
-    command = provenance(out)["command"]
+    command, again = _shipped_command(out)
     assert "--turn-limit 0.3" in command and "--cycles 1.5" in command
-    again = cli.optimization_setup(cli.build_parser().parse_args(shlex.split(command)[1:]))
     assert again.objective.turn_limit == 0.3
     assert again.objective.seconds == setup.objective.seconds * 1.5 / 2
     capsys.readouterr()
