@@ -6,6 +6,7 @@
     traj    = rollout(scene, state, policy, seconds)
 
 Modules, one concept each: ``scene`` (Scene, State, make_scene, init_state),
+``fluid_model`` (what a fluid model is, and the registry ``FLUIDS``),
 ``fluids`` (the fluid models Vacuum, SimpleFluid and EulerFluid, each owning
 its fields, its step and its largest stable step), ``servo`` (the body's half
 of every step: the policy seam and the stable PD), ``follow`` (the grid that

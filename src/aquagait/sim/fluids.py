@@ -1,23 +1,17 @@
 """Fluid models: what the water does to the body, each owning its fields, step and time step.
 
-A fluid model is an object passed to ``make_scene``, not a string tested in
-branches (DESIGN.md §3). Each has
+A fluid model is an object passed to ``make_scene`` that keeps the protocol
+of ``aquagait.sim.fluid_model`` (its fields at rest, its step, its largest
+stable step); this module builds on ``scene``, never the other way.
 
-    name                          'none', 'simple' or 'euler'
-    max_dt                        its default longest step [s]
-    bind(model, grid) -> model    the model with what it bakes for this creature
-    init(scene, state) -> State   the state with its fields at rest
-    step(scene, state, dt, policy) -> State
-    longest_step(state, dt) -> float   the largest stable step now, at most dt
-    settings() -> dict            its parameters, for config.json
-
-Three are here. ``Vacuum``: the body moves under its own joint forces alone.
-``SimpleFluid`` (paper §7, DESIGN.md §2.6): no grid; every surface patch that
-moves into the still water feels the quadratic drag ``-k rho A v_n^2 n``
-(``aquagait.drag``), added explicitly to the joint forces of a vacuum step.
-``EulerFluid``: the inviscid fluid of ``aquagait.fluid``, two-way coupled
-through one pressure solve (``aquagait.coupling``, paper §3.3); its step
-reads like the paper's algorithm box:
+Three are here, each registered in ``FLUIDS`` by its name. ``Vacuum``: the
+body moves under its own joint forces alone. ``SimpleFluid`` (paper §7,
+DESIGN.md §2.6): no grid; every surface patch that moves into the still
+water feels the quadratic drag ``-k rho A v_n^2 n`` (``aquagait.drag``),
+added explicitly to the joint forces of a vacuum step. ``EulerFluid``: the
+inviscid fluid of ``aquagait.fluid``, two-way coupled through one pressure
+solve (``aquagait.coupling``, paper §3.3); its step reads like the paper's
+algorithm box:
 
     voxelize the links at q^n            solid cells, coupled faces
     advect the fluid                      u* (faces in the body carry its velocity)
@@ -32,7 +26,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from numbers import Real
-from typing import TYPE_CHECKING, ClassVar, Protocol
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
@@ -52,6 +46,7 @@ from aquagait.drag import DRAG_COEFFICIENT, drag_force
 from aquagait.fluid.advection import advect_velocity, bfecc
 from aquagait.fluid.pcg import pcg
 from aquagait.grid import Grid, max_speed
+from aquagait.sim.fluid_model import FLUIDS, FluidModel, fluid_model, register
 from aquagait.sim.follow import CLEARANCE, body_bounds, check_room, follow, room
 from aquagait.sim.servo import (
     SimulationDiverged,
@@ -65,6 +60,8 @@ if TYPE_CHECKING:
     from aquagait.body.model import Model
     from aquagait.sim.scene import Scene, State
 
+__all__ = ["FLUIDS", "EulerFluid", "FluidModel", "SimpleFluid", "Vacuum", "fluid_model"]
+
 NEAR_BODY = 2
 """Faces within this many cells of the body are advected at first order
 (``EulerFluid.near_body``). The fish's 2-s swim from rest at 1/270 and 1/540 s
@@ -75,31 +72,7 @@ SMALLEST_STEP = 1e-3
 """A CFL step below this fraction of ``dt`` means the flow has blown up."""
 
 
-class FluidModel(Protocol):
-    """What ``aquagait.sim`` asks of a fluid model (module docstring)."""
-
-    name: ClassVar[str]
-    max_dt: float
-
-    def bind(self, model: Model, grid: Grid | None) -> FluidModel:
-        """This model with what it bakes for the creature on this grid (None: no grid).
-
-        Raises ValueError when the model cannot simulate it (e.g. no grid, or
-        one too small)."""
-
-    def init(self, scene: Scene, state: State) -> State:
-        """``state`` with this fluid's fields at rest (face velocities [m/s], pressure [Pa])."""
-
-    def step(self, scene: Scene, state: State, dt: float, policy) -> State:
-        """The state ``dt`` [s] later under ``policy`` (``aquagait.sim.servo``)."""
-
-    def longest_step(self, state: State, dt: float) -> float:
-        """The largest stable step [s] from ``state``, at most ``dt``."""
-
-    def settings(self) -> dict:
-        """The model's parameters as plain values, for ``config.json``."""
-
-
+@register
 @dataclass(frozen=True)
 class Vacuum:
     """No fluid: the body under its own joint forces.
@@ -135,6 +108,7 @@ class Vacuum:
         return {}
 
 
+@register
 @dataclass(frozen=True)
 class SimpleFluid:
     """The paper's simple fluid (§7): quadratic drag on every surface patch, no flow.
@@ -192,6 +166,7 @@ class SimpleFluid:
         return {"drag_coefficient": self.drag_coefficient}
 
 
+@register
 @dataclass(frozen=True)
 class EulerFluid:
     """The inviscid incompressible fluid, two-way coupled with the body (paper §3).
@@ -361,24 +336,3 @@ class EulerFluid:
 
 PRECISIONS = (np.dtype(np.float64), np.dtype(np.float32))
 """The precisions ``EulerFluid`` keeps its face velocities in."""
-
-FLUIDS = {model.name: model for model in (Vacuum, SimpleFluid, EulerFluid)}
-"""The fluid models by name, for ``make_scene(fluid="euler")`` and the command line."""
-
-
-def fluid_model(fluid) -> FluidModel:
-    """A fluid model from itself or its name ('none', 'simple', 'euler').
-
-    Raises:
-        ValueError: an unknown name.
-    """
-    if isinstance(fluid, str):
-        if fluid not in FLUIDS:
-            raise ValueError(f"unknown fluid {fluid!r}; fluids: {', '.join(FLUIDS)}")
-        return FLUIDS[fluid]()
-    if all(hasattr(fluid, a) for a in ("bind", "init", "step", "longest_step", "max_dt")):
-        return fluid
-    raise TypeError(
-        f"fluid must be a fluid model (Vacuum(), SimpleFluid(), EulerFluid()) or one of "
-        f"{', '.join(map(repr, FLUIDS))}; got {fluid!r}"
-    )

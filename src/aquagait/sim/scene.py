@@ -4,7 +4,9 @@ The scene holds the creature, its dynamics, the water's density, a grid and
 a fluid model (``aquagait.sim.fluids``): ``Vacuum()``, ``SimpleFluid()`` or
 ``EulerFluid()``; ``make_scene(..., fluid="euler")`` is a shorthand for the
 default of each. The fluid model owns what differs between fluids: its
-initial fields, its step and its largest stable time step.
+initial fields, its step and its largest stable time step. This module knows
+the models only by their protocol and registry (``aquagait.sim.fluid_model``):
+the models build on the scene, not the scene on them.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
 from aquagait.body.shape import BodyShape, body_shape
 from aquagait.grid import Grid
-from aquagait.sim.fluids import FLUIDS, FluidModel, fluid_model
+from aquagait.sim.fluid_model import FLUIDS, FluidModel, fluid_model
 
 
 @dataclass(frozen=True, eq=False)
