@@ -210,6 +210,7 @@ def test_no_body_in_the_grid_gives_no_solid_and_no_faces(eel):
     voxels = voxelize(shape, grid, *Dynamics(creature.model.mj).link_poses(creature.model.qpos0))
     assert not voxels.solid.any() and voxels.face_count == 0
     assert voxels.face_index.shape == (0, 2) and voxels.face_center.shape == (0, 3)
+    assert voxels.first_entries().size == 0  # was [0], an index into nothing
 
 
 # --- owners -------------------------------------------------------------------------

@@ -1,4 +1,5 @@
-"""Fluid models as objects: the shorthand, a scheme passed in, their settings, bad input."""
+"""Fluid models as objects: the shorthand, a scheme passed in, their settings, bad input,
+a body the grid does not see."""
 
 import numpy as np
 import pytest
@@ -79,3 +80,41 @@ def test_the_precision_is_a_setting_and_checked(eel):
         ag.EulerFluid(mostly_water=2)
     with pytest.raises(ValueError, match="must be np.float64 or np.float32, got"):
         ag.EulerFluid(dtype=np.int32)
+
+
+PLATE = """<mujoco><worldbody><body name="plate"><freejoint/>
+  <geom name="blade" type="box" size="0.05 0.05 0.0015" density="1000"/>
+</body></worldbody></mujoco>"""
+"""A 10 cm square plate 3 mm thick: on 1 cm cells centred on it, the cell centres lie
+5 mm either side of its mid-plane, none inside it."""
+
+
+def plate_scene(boundary=None, origin=None):
+    fluid = ag.EulerFluid() if boundary is None else ag.EulerFluid(boundary=boundary)
+    return ag.make_scene(ag.load_model(PLATE), (32, 32, 20), 0.01, fluid=fluid, origin=origin)
+
+
+def test_a_body_no_cell_centre_falls_in_is_refused_by_name_on_the_staircase():
+    from aquagait.body.voxelize import voxelize
+
+    with pytest.raises(ag.sim.BodyNotOnGrid) as refused:
+        ag.init_state(plate_scene(voxelize))
+    message = str(refused.value)
+    for fact in ("t = 0 s", "'voxelize'", "0.01 m grid", "plate (3 mm thick, 0.3 cells)",
+                 "at most 1.5 mm", "boundary=voxelize_subcell"):  # fmt: skip
+        assert fact in message
+    # a simulation error, as the command line reports one
+    assert isinstance(refused.value, ag.sim.SimulationError)
+
+
+def test_the_same_plate_is_seen_by_a_cell_centre_or_the_sub_cell_boundary():
+    """Moved half a cell across, the centres' plane lies in the plate and the staircase has
+    cells to couple; the default boundary sees it through its faces where it lies. Either
+    way the water slows a plate started broadside: any added mass takes speed away."""
+    from aquagait.body.voxelize import voxelize
+
+    shifted = (-0.16, -0.16, -0.095)  # the centres at z = 0: the plate's mid-plane
+    for scene in (plate_scene(voxelize, origin=shifted), plate_scene()):
+        state = ag.init_state(scene, qvel=[0, 0, 0.1, 0, 0, 0])
+        after = ag.step(scene, state, 1 / 90)
+        assert 0 < after.qvel[2] < 0.1

@@ -84,9 +84,10 @@ class Voxels:
         return int(self.face_axis.shape[0])
 
     def first_entries(self) -> np.ndarray:
-        """The rows that list each coupled face first: one row per face."""
+        """The rows that list each coupled face first: one row per face (none without faces)."""
         key = np.column_stack([self.face_axis, self.face_index])
-        return np.flatnonzero(np.r_[True, np.any(key[1:] != key[:-1], axis=1)])
+        first = np.r_[True, np.any(key[1:] != key[:-1], axis=1)][: len(key)]
+        return np.flatnonzero(first)
 
     def sides(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The cells with water on either side of every coupled face.

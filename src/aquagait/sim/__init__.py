@@ -15,7 +15,15 @@ follows the swimmer), ``rollout`` (step, advance, rollout, Trajectory) and
 the recorded flow, for pictures and exports).
 """
 
-from aquagait.sim.fluids import FLUIDS, EulerFluid, FluidModel, SimpleFluid, Vacuum, fluid_model
+from aquagait.sim.fluids import (
+    FLUIDS,
+    BodyNotOnGrid,
+    EulerFluid,
+    FluidModel,
+    SimpleFluid,
+    Vacuum,
+    fluid_model,
+)
 from aquagait.sim.follow import CLEARANCE, BodyOutsideGrid, GridGrew, growth_notes
 from aquagait.sim.frames import FluidFrames
 from aquagait.sim.rollout import FRAMES_PER_SECOND, Trajectory, advance, rollout, step
@@ -26,6 +34,7 @@ __all__ = [
     "CLEARANCE",
     "FLUIDS",
     "FRAMES_PER_SECOND",
+    "BodyNotOnGrid",
     "BodyOutsideGrid",
     "EulerFluid",
     "FluidFrames",

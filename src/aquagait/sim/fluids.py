@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
+from aquagait.body.shape import link_thickness
 from aquagait.body.subcell import voxelize_subcell
 from aquagait.body.surface import Surface, body_surface
 from aquagait.body.voxelize import Voxels
@@ -50,6 +51,7 @@ from aquagait.sim.fluid_model import FLUIDS, FluidModel, fluid_model, register
 from aquagait.sim.follow import CLEARANCE, body_bounds, check_room, follow, room
 from aquagait.sim.servo import (
     SimulationDiverged,
+    SimulationError,
     move_body,
     predict_body,
     servo_forces,
@@ -60,7 +62,15 @@ if TYPE_CHECKING:
     from aquagait.body.model import Model
     from aquagait.sim.scene import Scene, State
 
-__all__ = ["FLUIDS", "EulerFluid", "FluidModel", "SimpleFluid", "Vacuum", "fluid_model"]
+__all__ = [
+    "FLUIDS",
+    "BodyNotOnGrid",
+    "EulerFluid",
+    "FluidModel",
+    "SimpleFluid",
+    "Vacuum",
+    "fluid_model",
+]
 
 NEAR_BODY = 2
 """Faces within this many cells of the body are advected at first order
@@ -258,6 +268,7 @@ class EulerFluid:
 
         Raises:
             ValueError: the body lies within ``clearance`` cells of the grid's walls.
+            BodyNotOnGrid: the boundary finds no cell or face of the grid in the body.
         """
         grid = scene.grid
         if (room(grid, body_bounds(scene, state.qpos)) < self.clearance).any():
@@ -266,16 +277,20 @@ class EulerFluid:
                 "of the grid: start it nearer the grid's centre"
             )
         velocity = grid.zeros_velocity(self.dtype)
-        voxels = self._voxels(scene, grid, state.qpos)
+        voxels = self._voxels(scene, grid, state)
         motion = scene.dynamics.link_motion(state.qpos, state.qvel)
         rigid_faces_(grid, velocity, voxels, motion, self.mostly_water)
         return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
 
     def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
-        """One two-way coupled step (module docstring, DESIGN.md §2.3)."""
+        """One two-way coupled step (module docstring, DESIGN.md §2.3).
+
+        Raises:
+            BodyNotOnGrid: the boundary finds no cell or face of the grid in the body.
+        """
         grid, q = state.grid, state.qpos
         grid.check_dt(state.velocity, dt)
-        voxels = self._voxels(scene, grid, q)
+        voxels = self._voxels(scene, grid, state)
         first_order = near_body(grid, voxels, self.near_body) if self.near_body >= 0 else None
         advected = advect_velocity(grid, state.velocity, dt, self.advect, first_order)
         tau, damping = servo_forces(scene, state, dt, policy)
@@ -288,8 +303,11 @@ class EulerFluid:
         moved = replace(moved, velocity=velocity, pressure=solved.pressure)
         return follow(scene, moved, self.clearance, self.grow)
 
-    def _voxels(self, scene: Scene, grid: Grid, q) -> Voxels:
-        return self.boundary(scene.shape, grid, *scene.dynamics.link_poses(q))
+    def _voxels(self, scene: Scene, grid: Grid, state: State) -> Voxels:
+        voxels = self.boundary(scene.shape, grid, *scene.dynamics.link_poses(state.qpos))
+        if voxels.face_count == 0:  # nothing to couple: the water would not see the body
+            raise BodyNotOnGrid(_unseen_body(scene, grid, self.boundary, state.time))
+        return voxels
 
     def _coupled_solve(self, scene, state, voxels, advected, qvel_star, dt, damping):
         q = state.qpos
@@ -336,3 +354,30 @@ class EulerFluid:
 
 PRECISIONS = (np.dtype(np.float64), np.dtype(np.float32))
 """The precisions ``EulerFluid`` keeps its face velocities in."""
+
+
+class BodyNotOnGrid(SimulationError):
+    """The fluid's boundary found no cell or face of the grid inside the body: the water
+    would not see it. The staircase (``voxelize``) makes a cell solid only where its centre
+    lies in a part, so a body thinner than a cell can fall between the centres."""
+
+
+def _unseen_body(scene: Scene, grid: Grid, boundary, time: float) -> str:
+    """What ``BodyNotOnGrid`` says: the parts and their thickness, the cell, what would work."""
+    h, shape = grid.cell_size, scene.shape
+    thickness = link_thickness(shape)
+    parts = sorted(np.flatnonzero(shape.dims[:, 0] > 0), key=lambda k: thickness[k])
+    listed = ", ".join(
+        f"{shape.links[k]} ({1e3 * thickness[k]:.3g} mm thick, {thickness[k] / h:.2g} cells)"
+        for k in parts[:4]
+    ) + (f" and {len(parts) - 4} more" if len(parts) > 4 else "")
+    thinnest = thickness[parts[0]] if parts else 0.0
+    return (
+        f"at t = {time:.4g} s the fluid boundary {getattr(boundary, '__name__', boundary)!r} "
+        f"puts no cell or face of the {h:g} m grid inside {scene.model.source}, so the water "
+        f"would not feel it: {listed}. The staircase (voxelize) makes a cell solid only "
+        f"where its centre lies in a part; give cells of at most {1e3 * thinnest / 2:.3g} mm "
+        "(two across the thinnest part, --cell-size), or the default sub-cell boundary "
+        "(EulerFluid(), boundary=voxelize_subcell), which sees a part thinner than a cell in "
+        "its faces"
+    )
