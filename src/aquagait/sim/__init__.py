@@ -7,6 +7,7 @@
 
 Modules, one concept each: ``scene`` (Scene, State, make_scene, init_state),
 ``fluid_model`` (what a fluid model is, and the registry ``FLUIDS``),
+``memory`` (a grid whose fluid would not fit in memory is refused),
 ``fluids`` (the fluid models Vacuum, SimpleFluid and EulerFluid, each owning
 its fields, its step and its largest stable step), ``servo`` (the body's half
 of every step: the policy seam and the stable PD), ``follow`` (the grid that
@@ -26,6 +27,7 @@ from aquagait.sim.fluids import (
 )
 from aquagait.sim.follow import CLEARANCE, BodyOutsideGrid, GridGrew, growth_notes
 from aquagait.sim.frames import FluidFrames
+from aquagait.sim.memory import GridTooLarge
 from aquagait.sim.rollout import FRAMES_PER_SECOND, Trajectory, advance, rollout, step
 from aquagait.sim.scene import Scene, State, init_state, make_scene
 from aquagait.sim.servo import SimulationDiverged, SimulationError
@@ -40,6 +42,7 @@ __all__ = [
     "FluidFrames",
     "FluidModel",
     "GridGrew",
+    "GridTooLarge",
     "Scene",
     "SimpleFluid",
     "SimulationDiverged",

@@ -9,6 +9,7 @@ branches (DESIGN.md §3). Each has
     init(scene, state) -> State   the state with its fields at rest
     step(scene, state, dt, policy) -> State
     longest_step(state, dt) -> float   the largest stable step now, at most dt
+    memory(grid) -> int           bytes its fields and scratch take on this grid
     settings() -> dict            its parameters, for config.json
 
 This module holds the protocol and the registry only, so that ``scene``
@@ -48,6 +49,11 @@ class FluidModel(Protocol):
 
     def longest_step(self, state: State, dt: float) -> float:
         """The largest stable step [s] from ``state``, at most ``dt``."""
+
+    def memory(self, grid: Grid) -> int:
+        """The bytes its fields and scratch take at the peak of a swim on ``grid`` (0:
+        none); ``make_scene`` refuses a grid whose estimate does not fit. Optional: a model
+        without it is not checked."""
 
     def settings(self) -> dict:
         """The model's parameters as plain values, for ``config.json``."""

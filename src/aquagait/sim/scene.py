@@ -21,6 +21,7 @@ from aquagait.body.model import Model
 from aquagait.body.shape import BodyShape, body_shape
 from aquagait.grid import Grid
 from aquagait.sim.fluid_model import FLUIDS, FluidModel, fluid_model
+from aquagait.sim.memory import available_memory, check_memory
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,6 +116,9 @@ def make_scene(
     Raises:
         ValueError: an unknown fluid, a grid of the wrong dimension, a fluid
             that needs a grid without one, a grid too small for the creature.
+        GridTooLarge: a ValueError (``aquagait.sim.memory``): the fluid on
+            this grid would take more memory than the machine has available
+            (``FluidModel.memory``); checked before anything is allocated.
     """
     model, default_res, default_h = _unpack_creature(creature_or_model)
     if drag_coefficient is not None:
@@ -130,6 +134,9 @@ def make_scene(
     grid = None
     if resolution is not None and cell_size is not None:
         grid = _place_grid(model, dynamics, resolution, cell_size, origin)
+        memory = getattr(fluid, "memory", None)  # optional in the protocol
+        if memory is not None:
+            check_memory(grid, memory(grid), available_memory())  # before any allocation
     return Scene(model, dynamics, fluid.bind(model, grid), grid, float(density))
 
 
