@@ -78,10 +78,18 @@ def _cmd_check(args) -> int:
 
 
 def _convergence(creature, seconds: float, out: Path) -> list[str]:
-    """Run and write the step and grid study (``aquagait.app.convergence``)."""
-    from aquagait.app.convergence import convergence_study, format_convergence, write_convergence
+    """Run and write the step, grid and domain study (``aquagait.app.convergence``)."""
+    from aquagait.app.convergence import (
+        CASES,
+        convergence_study,
+        format_convergence,
+        write_convergence,
+    )
 
-    print(f"\nconvergence: {creature.name}'s default gait, {seconds:g} s from rest, five swims")
+    print(
+        f"\nconvergence: {creature.name}'s default gait, {seconds:g} s from rest, "
+        f"{len(CASES)} swims"
+    )
     study = convergence_study(
         creature,
         seconds,
@@ -527,8 +535,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--no-picture", action="store_true", help="skip voxels.png")
     check.add_argument(
         "--convergence", action="store_true",
-        help="also swim the default gait at 1/3 and 1/6 of the step and on 1.5x and 2x finer "
-             "grids, and compare the distances (minutes; the frog's, most of an hour)",
+        help="also swim the default gait at 1/3 and 1/6 of the step, on 1.5x and 2x finer "
+             "grids over the same domain, and with the same cell on a grid 1.5x as large, "
+             "and compare the distances (minutes; the frog's, most of an hour)",
     )  # fmt: skip
     check.add_argument("--seconds", type=float, default=2.0,
                        help="with --convergence: seconds swum in each case")  # fmt: skip
