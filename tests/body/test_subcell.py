@@ -7,21 +7,21 @@ from test_voxelize import FRAME, free, planar
 
 import aquagait as ag
 from aquagait.body import Dynamics, load_model
-from aquagait.body.subcell import WEIGHT_FLOOR, voxelize_subcell
+from aquagait.body.subcell import WEIGHT_FLOOR, voxelize_fractions, voxelize_subcell
 from aquagait.body.voxelize import body_shape
 from aquagait.grid import Grid
 
 H = 0.01
 
 
-def fractions(xml, offset, resolution=16, pose=None):
+def fractions(xml, offset, resolution=16, pose=None, boundary=voxelize_subcell):
     """The body of ``xml`` voxelized on a grid of ``resolution`` cells a side around
     the origin, shifted by ``offset`` (m); returns the grid and the voxels."""
     model = load_model(xml)
     pos, rot = Dynamics(model.mj).link_poses(model.qpos0 if pose is None else pose)
     origin = tuple(-resolution / 2 * H + np.asarray(offset))
     grid = Grid((resolution,) * model.dim, H, origin)
-    return grid, voxelize_subcell(body_shape(model, H), grid, pos, rot)
+    return grid, boundary(body_shape(model, H), grid, pos, rot)
 
 
 def solid_volume(grid, voxels, axis):
@@ -86,19 +86,35 @@ def test_the_fractions_change_continuously_with_the_pose():
     assert 0 < change < 5e-3
 
 
-def test_a_plate_thinner_than_a_cell_blocks_in_proportion_to_its_thickness():
-    """A plate 0.3 cells thick across x: no cell is solid, yet every row of x faces
-    through it is partly closed, by 0.3 faces in all (its volume) within 10%.
-    Measured 0.284: the plate is about one signed-distance sample thick (``h / 4``),
-    and interpolating between samples rounds its depth off."""
-    grid, voxels = fractions(planar('<geom type="box" size=".0015 .05 .02"/>'), (0.0012, 0.0))
+PLATE = planar('<geom type="box" size=".0015 .05 .02"/>')
+"""A plate 0.3 cells thick across x, 10 cells tall."""
+
+
+def test_water_fractions_alone_block_a_thin_plate_in_proportion_to_its_thickness():
+    """Without the closure, no cell is solid, and every row of x faces through the
+    plate is partly closed, by 0.3 faces in all (its volume) within 5%: the
+    water passes through the rest."""
+    grid, voxels = fractions(PLATE, (0.0012, 0.0), boundary=voxelize_fractions)
     assert not voxels.solid.any()
     x_faces = voxels.face_axis == 0
     rows = voxels.face_index[x_faces, 1]
     middle = np.abs(voxels.face_center[x_faces, 1]) < 0.05 - H
     for row in np.unique(rows[middle]):
         closed = voxels.face_share[x_faces][rows == row].sum()
-        assert closed == pytest.approx(0.3, rel=0.1)
+        assert closed == pytest.approx(0.3, rel=0.05)
+
+
+def test_a_thin_plate_closes_one_whole_face_in_every_row():
+    """With the closure, every row of x faces through the same plate has one face
+    with no water, all of it the plate's, and the other faces of the row open."""
+    grid, voxels = fractions(PLATE, (0.0012, 0.0))
+    x_faces = voxels.face_axis == 0
+    rows = voxels.face_index[x_faces, 1]
+    middle = np.abs(voxels.face_center[x_faces, 1]) < 0.05 - H
+    for row in np.unique(rows[middle]):
+        weight = voxels.face_weight[x_faces][rows == row]
+        assert np.count_nonzero(weight == 0) == 1
+        assert voxels.face_share[x_faces][rows == row][weight == 0].sum() == pytest.approx(1.0)
 
 
 def test_bookkeeping_of_a_bent_body(snake, snake_dynamics):

@@ -41,6 +41,7 @@ import numba
 import numpy as np
 
 from aquagait.body.shape import BodyShape
+from aquagait.body.thin import close_thin_parts_
 from aquagait.body.voxelize import (
     Voxels,
     as_3d,
@@ -71,7 +72,9 @@ MARGIN = 2
 """Cells added around the links' boxes: a partly covered cell, and a layer of open water."""
 
 
-def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
+def voxelize_subcell(
+    shape: BodyShape, grid: Grid, link_pos, link_rot, close: bool = True
+) -> Voxels:
     """Cells without water, owners and coupled faces with their water fractions (module docstring).
 
     Args:
@@ -79,6 +82,9 @@ def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels
         grid: the MAC grid, of the model's dimension.
         link_pos: (nl, 3) world origins of the links [m].
         link_rot: (nl, 3, 3) world rotations of the links.
+        close: close the faces that water would cross a thin part by
+            (``aquagait.body.thin``); False keeps the fractions alone
+            (``voxelize_fractions``).
     Returns:
         the ``Voxels``, ``face_weight`` holding each coupled face's water fraction.
     Raises:
@@ -107,6 +113,8 @@ def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels
     shares = [np.empty(tuple(count + step[a]) + (SLOTS,)) for a in axes]
     for a in axes:
         _face_fractions_(phi, link, h, a, weights[a], links[a], shares[a])
+    if close:
+        close_thin_parts_(baked, rot, pos, origin, h, first, phi, link, weights, links, shares)
     inside = owner[region]  # a view: the box's owners are written in place
     deepest = np.empty(tuple(count), dtype=np.int32)
     _cell_owners_(phi[0], link[0], h, inside, deepest)
@@ -119,6 +127,13 @@ def voxelize_subcell(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels
     for a in axes:
         faces.append(_coupled(weights[a], links[a], shares[a], water, first, a))
     return _voxels(grid, owner, water, faces)
+
+
+def voxelize_fractions(shape: BodyShape, grid: Grid, link_pos, link_rot) -> Voxels:
+    """``voxelize_subcell`` without closing thin parts: water fractions alone, which let
+    water through a part thinner than a cell (the boundary before the closure,
+    kept for comparison: ``EulerFluid(boundary=voxelize_fractions)``)."""
+    return voxelize_subcell(shape, grid, link_pos, link_rot, close=False)
 
 
 def _open_cells(weights, count) -> np.ndarray:
