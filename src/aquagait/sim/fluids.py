@@ -369,15 +369,16 @@ class EulerFluid:
 PRECISIONS = (np.dtype(np.float64), np.dtype(np.float32))
 """The precisions ``EulerFluid`` keeps its face velocities in."""
 
-BYTES_PER_CELL = {(2, 8): 330, (2, 4): 285, (3, 8): 380, (3, 4): 320}
+BYTES_PER_CELL = {(2, 8): 340, (2, 4): 285, (3, 8): 380, (3, 4): 320}
 """The memory a grid cell takes at the peak of an Euler swim [bytes], by (dimension, bytes
 of the face velocities' dtype): the fields, the coupled solve's vectors, the multigrid's
 levels, the advection's scratch, the voxels. Measured over 2-s swims of the default gait
 from rest (tracemalloc's peak, and the rise of the process's peak RSS after a warm-up:
 the larger): fish in float64 376 a cell on 128x64x64 and 370 on 192x96x96 (367 a cell
 between them), in float32 316 on 128x64x64; eel2d in float64 329 on 1024x512 and 328 on
-2048x1024 (327 between), in float32 281 on 1024x512. The first five steps peak 8-10 %
-lower. Not counted: the frames a rollout records, and a grid that grows."""
+2048x1024 (327 between; 335 on 1024x512 with thin parts closed), in float32 281 on
+1024x512. The first five steps peak 8-10 % lower. Not counted: the frames a rollout
+records, and a grid that grows."""
 
 
 class BodyNotOnGrid(SimulationError):
