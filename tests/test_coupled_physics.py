@@ -293,12 +293,15 @@ SUBCELL_ELLIPSE = 0.02
 minor semi-axis (a = 8 h), per pose. Measured over four random poses: +1.2% to
 +1.8% (the staircase: -2.5% to -4.4%); at a = 16 h +0.2% to +0.8%."""
 
-SUBCELL_DISC = 3e-4
+SUBCELL_DISC = 2e-3
 """The sub-cell boundary's bound on the disc's kept-spin error: its faces slide
-along the rim without the staircase's spurious layer; what is left is the
-body's velocity kept on mostly solid faces for advection, which the first
-solve counts as water. Measured within 2e-4 at a = 8 and 16 h (the staircase:
--1.2% to -3.0%)."""
+along the rim without the staircase's spurious layer. What is left: the rim's
+partly open faces start with still water (a new state's water is at rest, and
+since thin parts are closed no face with water takes the body's velocity),
+while the body's part of them slides through them with the rim, so the first
+solve sees a little flow across them. Measured 1.1e-3 to 1.4e-3 at a = 8 h
+(holding faces under half water to the body, the rule before: within 2e-4;
+the staircase: -1.2% to -3.0%)."""
 
 
 @pytest.mark.parametrize("shape", ["ellipse", "disc"])

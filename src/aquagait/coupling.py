@@ -90,13 +90,17 @@ turns by about the tolerance in a second (frog2d: 9.5e-4 rad at 1e-3, under
 1e-6 at 1e-5). 1e-4 keeps that small and still saves a quarter of the
 iterations of 1e-5."""
 
-MOSTLY_WATER = 0.5
-"""A coupled face with at least this water fraction keeps the water's velocity
-after the solve (for advection); below it, it takes the body's
-(``rigid_faces_``). The body's velocity so re-enters the next solve as the
-water's on those faces, once a step: the more steps a second, the more the
-water there is held to the body (docs/method-coupling.md, "Step and grid"). 0 keeps the water's
-velocity on every face with water."""
+MOSTLY_WATER = 0.0
+"""A coupled face with at least this water fraction keeps the water's velocity after
+the solve (for advection); below it, it takes the body's (``rigid_faces_``). 0,
+the default: every face with water keeps the water's, and only faces with none
+(inside the body, or closed across a thin part, ``aquagait.body.thin``) move with
+the body, so nothing is held to the body once a step. Above 0 the body's velocity
+re-enters the next solve as the water's on the faces below it, once a step: the
+more steps a second, the more the water there is held to the body, a first-order
+error in the step (0.5, the rule before thin parts were closed: eel2d +14 % from
+1/90 to 1/540 s; docs/method-coupling.md, "Step and grid")."""
+
 
 LinkMotion = tuple[np.ndarray, np.ndarray, np.ndarray]
 """``(origins, linear, angular)``, each (nlinks, 3): the links' world origins [m],
