@@ -264,7 +264,7 @@ def test_near_body_marks_the_faces_within_so_many_cells(dim):
     water and those beside a coupled face)."""
     scene = ball_scene(dim, 24, 3.0, boundary=voxelize_subcell)
     grid = scene.grid
-    voxels = scene.fluid._voxels(scene, grid, scene.model.qpos0)
+    voxels = scene.fluid._voxels(scene, grid, ag.init_state(scene))
     body = voxels.solid.copy()
     for side in voxels.face_cells():
         body[tuple(side.T)] = True
