@@ -235,6 +235,47 @@ def test_a_policy_with_damping_is_evaluated_at_the_end_of_the_step():
     np.testing.assert_array_equal(servo.calls[0][2], state.qvel)
 
 
+class Stepped(Spy):
+    """A servo that says how the step should treat it (``implicit``) and returns t [s]
+    on every DOF, so that the force applied shows where it was read."""
+
+    def __init__(self, nv, look_ahead):
+        super().__init__(nv)
+        self.look_ahead = np.asarray(look_ahead, dtype=float)
+
+    def implicit(self, dt):
+        return self.look_ahead, np.zeros(self.nv)
+
+    def __call__(self, t, q, qd):
+        super().__call__(t, q, qd)
+        return np.full(self.nv, t)
+
+
+def test_a_servo_is_read_its_look_ahead_of_the_way_through_the_step():
+    """``implicit(dt) -> (theta, D)``: the policy at the start and at the predicted end,
+    blended per DOF, ``theta tau(t + dt) + (1 - theta) tau(t)`` (sim/servo.py)."""
+    eel = ag.creatures.get("eel2d")
+    scene = ag.make_scene(eel)
+    state = ag.init_state(scene, qvel=[0.1, 0.2, 0.3, 0.4, 0, 0, 0])
+    look_ahead = np.linspace(0, 1, 7)
+    servo = Stepped(7, look_ahead)
+    new = ag.step(scene, state, 0.01, servo)
+    assert [c[0] for c in servo.calls] == [0.01, 0.0]
+    np.testing.assert_allclose(servo.calls[0][1], state.qpos + 0.01 * state.qvel, atol=1e-15)
+    np.testing.assert_array_equal(servo.calls[1][1], state.qpos)
+    np.testing.assert_allclose(new.torque, 0.01 * look_ahead, rtol=1e-14)
+    at_the_end = Stepped(7, np.ones(7))  # the paper's stable PD: read once, at the end
+    ag.step(scene, state, 0.01, at_the_end)
+    assert [c[0] for c in at_the_end.calls] == [0.01]
+
+
+def test_a_servo_with_the_wrong_shapes_is_refused():
+    eel = ag.creatures.get("eel2d")
+    scene = ag.make_scene(eel)
+    with pytest.raises(ValueError, match=r"look_ahead \(3,\) and damping \(7,\).*must be \(7,\)"):
+        ag.step(scene, ag.init_state(scene), 0.01, Stepped(7, np.ones(3)))
+
+
 def test_energy_is_the_work_of_the_joint_torque(two_links):
     """A constant internal torque tau: the energy account is |tau| |dtheta| exactly,
     and the kinetic energy gained equals that work to first order in dt."""

@@ -5,18 +5,25 @@ The controller seam (STYLE.md §6). A *policy* is any callable
     policy(t, q, qd) -> tau    # (nv,) generalized force [N or N m]
 
 applied over the step. Plain callables are explicit: ``tau`` is evaluated at
-the start of the step. A policy may also carry ``damping``, (nv,) diagonal
-gains Kd [N m s/rad]; the step then treats it as a servo evaluated at the end
-of the step (the stable PD of Tan et al. 2011, paper §3.2): it calls
-``policy(t + dt, q + dt qd, qd)`` and solves
+the start of the step. A servo may also say how the step should treat it
+implicitly, with a method
 
-    (M + dt Kd) qdd = tau - c
+    policy.implicit(dt) -> (look_ahead, damping)    # each (nv,): theta [1], D [N m s/rad]
 
-so that with ``tau = -Kp (q - qbar) - Kd qd`` it is exactly DESIGN.md §2.2.
-The force actually applied is ``tau - Kd (qd^{n+1} - qd^n)``; the step records
-it and adds ``|tau_i qd_i| dt`` per DOF to the energy. ``policy=None`` applies
-nothing. ``aquagait.control`` provides such policies; this package never
-imports it.
+The step then evaluates it at the start of the step and at the predicted end,
+``(t + dt, q + dt qd, qd)``, blends the two per DOF, and solves
+
+    (M + dt D) qdd = theta tau(t + dt, q + dt qd, qd) + (1 - theta) tau(t, q, qd) - c
+
+so that with ``tau = -Kp (q - qbar) - Kd qd`` the servo reads its position
+error theta of the way through the step (``aquagait.control.discretization``
+derives theta and D so that the step follows the continuous servo). A policy
+with a ``damping`` attribute (nv,) instead is the special case ``theta = 1,
+D = damping``: Tan et al.'s stable PD (paper §3.2, DESIGN.md §2.2), evaluated
+only at the end of the step. The force actually applied is ``tau - D
+(qd^{n+1} - qd^n)``; the step records it and adds ``|tau_i qd_i| dt`` per
+DOF to the energy. ``policy=None`` applies nothing. ``aquagait.control``
+provides such policies; this package never imports it.
 
 Time integration is semi-implicit Euler: ``qd += dt qdd``, then ``q`` moves
 with the new ``qd`` (quaternions on the unit sphere).
@@ -42,38 +49,63 @@ class SimulationDiverged(SimulationError):
 
 
 def servo_forces(scene: Scene, state: State, dt: float, policy) -> tuple[np.ndarray, np.ndarray]:
-    """The policy's force and implicit damping for this step, each (nv,).
+    """The policy's force and implicit damping D for this step, each (nv,) (module docstring).
 
-    A policy with ``damping`` is evaluated at the predicted end of the step,
-    ``(t + dt, q + dt qd, qd)``; any other at ``(t, q, qd)``.
+    A servo (``implicit`` or ``damping``) is evaluated at the predicted end of
+    the step, ``(t + dt, q + dt qd, qd)``, and, where its look-ahead is below
+    1, also at ``(t, q, qd)``; any other policy at ``(t, q, qd)``.
     """
     nv = scene.model.nv
     if policy is None:
         return np.zeros(nv), np.zeros(nv)
-    damping = getattr(policy, "damping", None)
+    look_ahead, damping = implicit_terms(policy, dt, nv)
     if damping is None:
-        tau, damping = policy(state.time, state.qpos, state.qvel), np.zeros(nv)
-    else:
-        ahead = scene.dynamics.integrate(state.qpos, state.qvel, dt)
-        tau = policy(state.time + dt, ahead, state.qvel)
-    tau = np.asarray(tau, dtype=float)
-    damping = np.asarray(damping, dtype=float)
-    if tau.shape != (nv,) or damping.shape != (nv,):
-        raise ValueError(
-            f"policy returned tau {tau.shape} and damping {damping.shape}; both must be ({nv},)"
-        )
+        return _force(policy(state.time, state.qpos, state.qvel), nv), np.zeros(nv)
+    ahead = scene.dynamics.integrate(state.qpos, state.qvel, dt)
+    tau = _force(policy(state.time + dt, ahead, state.qvel), nv)
+    if np.any(look_ahead != 1):
+        now = _force(policy(state.time, state.qpos, state.qvel), nv)
+        tau = look_ahead * tau + (1 - look_ahead) * now
     return tau, damping
 
 
+def implicit_terms(policy, dt: float, nv: int):
+    """``(look_ahead, damping)`` of a servo for a step of ``dt``, each (nv,); ``(None, None)``
+    for an explicit policy (module docstring)."""
+    implicit = getattr(policy, "implicit", None)
+    if implicit is not None:
+        look_ahead, damping = implicit(dt)
+    else:
+        damping = getattr(policy, "damping", None)
+        if damping is None:
+            return None, None
+        look_ahead = np.ones(nv)
+    look_ahead = np.asarray(look_ahead, dtype=float)
+    damping = np.asarray(damping, dtype=float)
+    if look_ahead.shape != (nv,) or damping.shape != (nv,):
+        raise ValueError(
+            f"policy gave look_ahead {look_ahead.shape} and damping {damping.shape} for the "
+            f"step; both must be ({nv},)"
+        )
+    return look_ahead, damping
+
+
+def _force(tau, nv: int) -> np.ndarray:
+    tau = np.asarray(tau, dtype=float)
+    if tau.shape != (nv,):
+        raise ValueError(f"policy returned tau {tau.shape}; it must be ({nv},)")
+    return tau
+
+
 def servo_mass(scene: Scene, q, dt: float, damping) -> np.ndarray:
-    """``Mt = M(q) + dt Kd``, (nv, nv): the mass the stable PD's implicit damping adds to."""
+    """``Mt = M(q) + dt D``, (nv, nv): the mass the stable PD's implicit damping adds to."""
     mass = scene.dynamics.mass_matrix(q)
     mass[np.diag_indices_from(mass)] += dt * damping
     return mass
 
 
 def predict_body(scene: Scene, state: State, dt: float, tau, damping) -> np.ndarray:
-    """Accelerations qdd (nv,) from ``(M + dt Kd) qdd = tau - c`` (DESIGN.md §2.2, step 2)."""
+    """Accelerations qdd (nv,) from ``(M + dt D) qdd = tau - c`` (DESIGN.md §2.2, step 2)."""
     mass = servo_mass(scene, state.qpos, dt, damping)
     force = tau - scene.dynamics.bias(state.qpos, state.qvel)
     try:
@@ -92,8 +124,8 @@ def predict_body(scene: Scene, state: State, dt: float, tau, damping) -> np.ndar
 def account_work(state: State, dt: float, tau, damping, qvel):
     """The force applied over the step and the energy so far, each (nv,).
 
-    The implicit damping adds ``-Kd (qd^{n+1} - qd^n)`` to the policy's force
-    (``-dt Kd qdd``); the work is counted as ``|tau_i qd_i| dt`` with the
+    The implicit damping adds ``-D (qd^{n+1} - qd^n)`` to the policy's force
+    (``-dt D qdd``); the work is counted as ``|tau_i qd_i| dt`` with the
     velocity that moves the positions, so spending and braking both cost
     (DESIGN.md §2.4, E_energy).
     """
