@@ -300,7 +300,11 @@ def test_applied_torque_includes_the_implicit_damping(creature):
     new = ag.step(scene, state, 0.01, servo)
     ahead = scene.dynamics.integrate(state.qpos, state.qvel, 0.01)
     qdd = (new.qvel - state.qvel) / 0.01
-    expected = servo(0.01, ahead, state.qvel) - 0.01 * servo.damping * qdd
+    look_ahead, damping = servo.implicit(0.01)
+    read = look_ahead * servo(0.01, ahead, state.qvel) + (1 - look_ahead) * servo(
+        0.0, state.qpos, state.qvel
+    )
+    expected = read - 0.01 * damping * qdd
     np.testing.assert_allclose(new.torque, expected, rtol=1e-12, atol=1e-15)
     # and it is what moves the body: M qdd + c = applied torque
     mass, bias = scene.dynamics.mass_matrix(state.qpos), scene.dynamics.bias(state.qpos, state.qvel)

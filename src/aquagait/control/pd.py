@@ -6,24 +6,33 @@ A servo is a policy in the sense of ``aquagait.sim``: ``policy(t, q, qd) -> tau`
     tau = -Kp (q - qbar(t)) - Kd qd
 
 on the actuated DOFs and zero on the root. ``PD`` is applied explicitly: the
-step uses the force at the start of the step. ``StablePD`` also exposes its
-``damping`` (= Kd), which tells the step to evaluate it at the *end* of the
-step and to treat the damping implicitly (Tan, Liu and Turk 2011; paper §3.2):
+step uses the force at the start of the step. ``StablePD`` also has
+``implicit(dt)``, which tells the step to treat it implicitly (Tan, Liu and
+Turk 2011; paper §3.2): the position error is read a fraction ``theta`` of the
+way through the step and an implicit damping ``D`` joins the mass,
 
-    (M + dt Kd) qdd = -c - Kp (q + dt qd - qbar(t + dt)) - Kd qd
+    (M + dt D) qdd = -c - Kp [theta e(t + dt, q + dt qd) + (1 - theta) e(t, q)] - Kd qd
 
-which stays stable for gains far beyond what the explicit form survives at
-the fluid's time step. Stability, per servo mode with ``Kp = w^2 I`` and
-``Kd = 2 zeta w I`` (semi-implicit Euler, linearized; Jury's criterion on the
-2x2 step map), with ``x = w dt``:
+How ``theta`` and ``D`` are chosen is ``StablePD(discretize=...)``
+(``aquagait.control.discretization``): ``sampled``, the default, makes the
+step follow the continuous servo ``I e'' + Kd e' + Kp e = 0`` sample for
+sample at any dt for the DOF's nominal inertia I, so a servo's natural
+frequency and damping ratio mean the same at every step; ``end_of_step`` is
+the paper's form (``theta = 1, D = Kd``), kept for comparison, whose servo is
+a continuous one only as dt -> 0. Both keep the servo's stiffness ``Kp`` and
+its lag ``Kd / Kp`` at the gait's frequencies.
 
-    explicit PD:  x^2 + 4 zeta x < 4      (zeta = 1: x < 0.83)
-    stable PD:    3 x^2 < 4 + 4 zeta x    (zeta = 1: x < 2; large x: Kd > 1.5 Kp dt)
+Stability, per servo mode with ``Kp = w^2 I`` and ``Kd = 2 zeta w I``
+(semi-implicit Euler, linearized; Jury's criterion on the 2x2 step map), with
+``x = w dt``:
 
-Because §2.2 drops the ``dt^2 Kp`` term of the full linearization, the stable
-form is not unconditionally stable: give it enough damping for the step. The
-step records the force actually applied, ``tau - dt Kd qdd = -Kp (...) - Kd
-qd^{n+1}``, and the energy ``|tau_i qd_i| dt``.
+    explicit PD:              x^2 + 4 zeta x < 4      (zeta = 1: x < 0.83)
+    end_of_step stable PD:    3 x^2 < 4 + 4 zeta x    (zeta = 1: x < 2; large x: Kd > 1.5 Kp dt)
+    sampled stable PD:        any x for zeta >= 1, for the nominal inertia and any heavier
+
+(an underdamped ``sampled`` servo is refused at steps it cannot follow:
+``aquagait.control.discretization``). The step records the force actually
+applied, ``tau - dt D qdd``, and the energy ``|tau_i qd_i| dt``.
 
 For a ball joint the gait drives the three components of a rotation vector
 ``r`` (``"name:x|y|z"``), the reference orientation is ``exp(r)``, and the
@@ -34,7 +43,11 @@ does not drive is held at 0.
 Gains: ``StablePD.tuned`` sets ``Kp = w^2 I``, ``Kd = 2 zeta w I`` per DOF from
 a natural frequency ``w`` [rad/s] and damping ratio ``zeta``, with ``I =
 1/(M^-1)_ii`` the DOF's apparent inertia at the reference pose (all other DOFs
-free); Kp in N m/rad, Kd in N m s/rad.
+free, ``apparent_inertia``); Kp in N m/rad, Kd in N m s/rad. The same I is the
+nominal inertia ``sampled`` matches. In water a joint also moves water: its
+inertia there is ``1/((M + M_a)^-1)_ii`` (``aquagait.sim.inertia``), and
+``servo_figures`` says what w and zeta the same gains have about it
+(``aquagait check NAME`` prints both).
 """
 
 from __future__ import annotations
@@ -44,6 +57,7 @@ import numpy as np
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
 from aquagait.body.rotations import quat_conj, quat_exp, quat_log, quat_mul
+from aquagait.control.discretization import ServoStep, sampled
 from aquagait.control.gait import SineGait
 
 
@@ -105,16 +119,45 @@ class PD:
 
 
 class StablePD(PD):
-    """The stable PD servo: as ``PD``, but the step treats it implicitly.
+    """The stable PD servo: as ``PD``, but the step treats it implicitly (module docstring).
 
-    ``damping`` (nv,) = Kd [N m s/rad] is the seam with ``aquagait.sim.step``:
-    a policy that has it is evaluated at ``(t + dt, q + dt qd, qd)`` and its
-    damping enters the mass matrix as ``M + dt Kd``.
+    ``implicit(dt)`` is the seam with ``aquagait.sim.step``: per DOF, the
+    look-ahead theta at which the step reads the position error and the
+    implicit damping D [N m s/rad] it adds to the mass as ``M + dt D``.
+
+    Args:
+        model, gait, kp, kd: as ``PD``.
+        inertia: (nv,) the nominal inertia each servo's step is matched for
+            [kg m^2 or kg]; default ``apparent_inertia(model)`` (the one
+            ``tuned`` sets the gains about). Only ``sampled`` uses it.
+        discretize: ``discretize(kp, kd, inertia, dt) -> ServoStep``
+            (``aquagait.control.discretization``): ``sampled`` (default) or
+            ``end_of_step`` (the paper's form, before issue 49).
     """
 
-    @property
-    def damping(self) -> np.ndarray:
-        return self.kd
+    def __init__(self, model: Model, gait: SineGait, kp, kd, inertia=None, discretize=sampled):
+        super().__init__(model, gait, kp, kd)
+        self.inertia = (
+            apparent_inertia(model) if inertia is None else _check_inertia(model, inertia)
+        )
+        self.discretize = discretize
+
+    def implicit(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(look_ahead, damping)`` for a step of ``dt`` [s], each (nv,) (``ServoStep``).
+
+        Raises:
+            ValueError: the discretization cannot take this step (``sampled``'s message).
+        """
+        step: ServoStep = self.discretize(self.kp, self.kd, self.inertia, dt)
+        return step.look_ahead, step.damping
+
+    @classmethod
+    def tuned(cls, model: Model, gait: SineGait, natural_frequency: float, damping_ratio=1.0,
+              discretize=sampled):  # fmt: skip
+        """A servo with gains from a natural frequency [rad/s] and a damping ratio about each
+        DOF's apparent inertia (module doc), its step chosen by ``discretize``."""
+        kp, kd = gains(model, natural_frequency, damping_ratio)
+        return cls(model, gait, kp, kd, discretize=discretize)
 
 
 def joint_angles(model: Model, q) -> np.ndarray:
@@ -134,11 +177,19 @@ def joint_angles(model: Model, q) -> np.ndarray:
     return positions[model.actuated_dofs]
 
 
+def apparent_inertia(model: Model) -> np.ndarray:
+    """Each DOF's apparent inertia ``1/(M^-1)_ii`` at ``qpos0``, all other DOFs free, (nv,)
+    [kg m^2 for a hinge, kg for a slide]: the inertia a servo on that DOF drives in a vacuum."""
+    mass = Dynamics(model.mj).mass_matrix(model.qpos0)
+    return 1.0 / np.diag(np.linalg.inv(mass))
+
+
 def gains(model: Model, natural_frequency: float, damping_ratio: float = 1.0):
     """Per-DOF PD gains ``(kp, kd)``, each (nv,), zero on the root DOFs.
 
     Args:
-        model: the creature; its mass matrix at ``qpos0`` sets the inertia scale.
+        model: the creature; its mass matrix at ``qpos0`` sets the inertia scale
+            (``apparent_inertia``).
         natural_frequency: w [rad/s] of each servo about its apparent inertia.
         damping_ratio: zeta; 1 is critical damping.
     """
@@ -147,13 +198,24 @@ def gains(model: Model, natural_frequency: float, damping_ratio: float = 1.0):
             f"natural_frequency must be > 0 rad/s and damping_ratio >= 0; got "
             f"{natural_frequency}, {damping_ratio}"
         )
-    mass = Dynamics(model.mj).mass_matrix(model.qpos0)
-    inertia = 1.0 / np.diag(np.linalg.inv(mass))
+    inertia = apparent_inertia(model)
     kp, kd = np.zeros(model.nv), np.zeros(model.nv)
     dofs = model.actuated_dofs
     kp[dofs] = natural_frequency**2 * inertia[dofs]
     kd[dofs] = 2 * damping_ratio * natural_frequency * inertia[dofs]
     return kp, kd
+
+
+def servo_figures(kp, kd, inertia) -> tuple[np.ndarray, np.ndarray]:
+    """The natural frequency [rad/s] and damping ratio of servos with gains ``kp``, ``kd``
+    about ``inertia`` (each (n,)): ``w = sqrt(Kp / I)``, ``zeta = Kd / (2 sqrt(Kp I))``;
+    ``gains`` inverted, for any inertia (in water: ``aquagait.sim.inertia``). NaN where
+    ``Kp = 0``."""
+    kp, kd, inertia = (np.asarray(x, dtype=float) for x in (kp, kd, inertia))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(kp > 0, np.sqrt(kp / inertia), np.nan)
+        zeta = np.where(kp > 0, kd / (2 * np.sqrt(kp * inertia)), np.nan)
+    return w, zeta
 
 
 def _check_gains(model: Model, kp, kd):
@@ -166,3 +228,14 @@ def _check_gains(model: Model, kp, kd):
             "PD gains must be zero on the root DOFs: the root is free, only joints are servoed"
         )
     return kp, kd
+
+
+def _check_inertia(model: Model, inertia) -> np.ndarray:
+    inertia = np.broadcast_to(np.asarray(inertia, dtype=float), (model.nv,)).copy()
+    dofs = model.actuated_dofs
+    if not np.all(np.isfinite(inertia[dofs]) & (inertia[dofs] > 0)):
+        raise ValueError(
+            f"a servo's nominal inertia must be > 0 on every actuated DOF; got "
+            f"{inertia[dofs].tolist()}"
+        )
+    return inertia

@@ -69,7 +69,10 @@ The entries (units: rad, s, m, J; the paper's gait is
   free offset, the half-range, and the offset the range), phase [-pi, pi],
   period [0.5, 2] s (``defaults``, ``aquagait.control.gait.DEFAULT_BOUNDS``).
 - ``pd.natural_frequency`` [rad/s] (> 0) and ``pd.damping_ratio`` (>= 0): the
-  servo gains (``aquagait.control.pd``). Defaults 100 and 1.5.
+  servo gains, about each DOF's inertia in a vacuum (``aquagait.control.pd``;
+  ``aquagait check`` also gives both about its inertia in water). Defaults 100
+  and 1.5. A servo with damping ratio below 1 is refused at steps it cannot
+  follow (``aquagait.control.discretization``: 0.5 beyond w dt = 1.1).
 - ``grid.resolution`` (cells per axis, one per dimension) and ``grid.cell_size``
   [m]: the default grid; it must hold the body with 8 cells of water on every
   side around its centre of mass. Defaults from the body's thinnest link and length.
