@@ -135,3 +135,17 @@ def test_a_grid_that_holds_the_eel_at_rest_but_not_swimming_is_warned_about(eel_
     box = report.numbers["clearance"]["gait_box"]
     needed = int(np.ceil(box[1] / 0.01 + 16))
     assert f"use at least 128x{needed} cells" in warning and 33 <= needed <= 36
+
+
+def test_each_servo_is_stated_about_its_inertia_in_a_vacuum_and_in_water(eel_report):
+    """The gains set w = 100 rad/s, zeta = 1.5 about the vacuum inertia; about the inertia
+    in water (added mass: larger) the same gains give w sqrt(I / I_water), zeta likewise."""
+    for d in eel_report.numbers["dofs"]:
+        ratio = d["inertia"] / d["inertia_water"]
+        assert 0 < ratio < 1
+        assert d["natural_frequency_water"] == pytest.approx(100.0 * np.sqrt(ratio), rel=1e-12)
+        assert d["damping_ratio_water"] == pytest.approx(1.5 * np.sqrt(ratio), rel=1e-12)
+        assert d["kp"] == pytest.approx(100.0**2 * d["inertia"], rel=1e-12)
+    table = format_check(eel_report)
+    assert "damping ratio 1.5 about each DOF's inertia in a vacuum; in water, " in table
+    assert "zeta water" in table

@@ -7,10 +7,12 @@
 
 The table lists the links (mass, volume, size, thickness in mm and in cells
 of the default grid, solid cells at the reference pose), the DOFs with their
-limits and PD gains, the gait's parameters, the default grid, the energy
-bound and the loader's notes. The picture (the paper's Figure 5) shows the
-body voxelized at the reference pose on the default grid, so a user sees
-whether thin fins survive voxelization.
+limits, PD gains and each servo's inertia, natural frequency and damping
+ratio in a vacuum and in water (``aquagait.sim.inertia``), the gait's
+parameters, the default grid, the energy bound and the loader's notes. The
+picture (the paper's Figure 5) shows the body voxelized at the reference
+pose on the default grid, so a user sees whether thin fins survive
+voxelization.
 
 Volume: each geom's own (closed forms for primitives, the divergence theorem
 over a mesh's triangles, the same triangles MuJoCo's mass uses), summed per
@@ -42,13 +44,14 @@ from aquagait.body.geometry import link_volumes
 from aquagait.body.shape import BodyShape, body_shape, link_thickness
 from aquagait.body.subcell import voxelize_subcell
 from aquagait.body.voxelize import Voxels, voxelize
-from aquagait.control.pd import gains
+from aquagait.control.pd import apparent_inertia, gains, servo_figures
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT
 from aquagait.grid import Grid
 from aquagait.io.run import read_json, write_json
 from aquagait.sim import CLEARANCE, Scene, make_scene
 from aquagait.sim.follow import cells_for, check_room, room, widest_box
+from aquagait.sim.inertia import inertia_in_fluid
 
 THIN_CELLS = 2.0
 """A link should be at least this many cells thick (DESIGN.md §2.8)."""
@@ -169,7 +172,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "volume_from": "geoms",
         "thinnest": _thinnest(links),
         "root": _root(model),
-        "dofs": _dofs(creature),
+        "dofs": _dofs(creature, _inertia_in_water(creature)),
         "gait": _gait(creature),
         "grid": _grid(creature, grid),
         "clearance": _clearance(creature, setup.scene),
@@ -178,6 +181,7 @@ def run_check(setup: CheckSetup) -> CheckReport:
         "pd": {
             "natural_frequency": creature.natural_frequency,
             "damping_ratio": creature.damping_ratio,
+            "about": "each DOF's inertia in a vacuum, 1/(M^-1)_ii at the reference pose",
         },
         "notes": [*model.notes, *creature.notes],
     }
@@ -271,10 +275,14 @@ def _root(model) -> dict:
     return {"kind": kind, "dofs": root}
 
 
-def _dofs(creature: Creature) -> list[dict]:
-    """Per actuated DOF: joint kind, limits [rad], PD gains, what drives it."""
+def _dofs(creature: Creature, water: np.ndarray | None) -> list[dict]:
+    """Per actuated DOF: joint kind, limits [rad], PD gains, what drives it, and its
+    servo's inertia, natural frequency and damping ratio in a vacuum and in ``water``
+    (each DOF's inertia there, ``_inertia_in_water``; None: not measured)."""
     model, gait = creature.model, creature.gait
     kp, kd = gains(model, creature.natural_frequency, creature.damping_ratio)
+    vacuum = apparent_inertia(model)
+    in_water = servo_figures(kp, kd, water) if water is not None else None
     kind = {j.dof + i: j.kind for j in model.joints for i in range(j.nv)}
     mirror = {dof: (source, sign) for dof, source, sign in gait.mirror}
     rows = []
@@ -288,8 +296,26 @@ def _dofs(creature: Creature) -> list[dict]:
             "lower": float(model.lower[i]), "upper": float(model.upper[i]),
             "kp": float(kp[d]), "kd": float(kd[d]),
             "gait": "yes" if driven is True else (driven or "no"),
+            "inertia": float(vacuum[d]),
+            "inertia_water": None if water is None else float(water[d]),
+            "natural_frequency_water": None if in_water is None else float(in_water[0][d]),
+            "damping_ratio_water": None if in_water is None else float(in_water[1][d]),
         })  # fmt: skip
     return rows
+
+
+def _inertia_in_water(creature: Creature) -> np.ndarray | None:
+    """Each DOF's inertia ``1/((M + M_a)^-1)_ii`` in the Euler fluid on the default grid at
+    the reference pose (``aquagait.sim.inertia``), (nv,); None where that grid cannot hold
+    the body (the clearance line says why)."""
+    try:
+        scene = make_scene(creature, fluid="euler")
+    except ValueError:
+        return None
+    water = np.full(creature.model.nv, np.nan)
+    dofs = creature.model.actuated_dofs
+    water[dofs] = inertia_in_fluid(scene, dofs=dofs)
+    return water
 
 
 def _gait(creature: Creature) -> dict:

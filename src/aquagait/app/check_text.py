@@ -77,13 +77,20 @@ def _link_table(n: dict) -> str:
 
 def _dof_table(n: dict) -> str:
     rows = [("DOF", "kind", "lower [deg]", "upper [deg]", "kp [N m/rad]", "kd [N m s/rad]",
-             "gait")]  # fmt: skip
+             "gait", "I vacuum", "I water", "w water [rad/s]", "zeta water")]  # fmt: skip
     for d in n["dofs"]:
+        water = d.get("inertia_water") is not None
         rows.append((d["name"], d["kind"], f"{math.degrees(d['lower']):.4g}",
                      f"{math.degrees(d['upper']):.4g}", f"{d['kp']:.4g}", f"{d['kd']:.4g}",
-                     d["gait"]))  # fmt: skip
+                     d["gait"], f"{d['inertia']:.4g}",
+                     f"{d['inertia_water']:.4g}" if water else "-",
+                     f"{d['natural_frequency_water']:.3g}" if water else "-",
+                     f"{d['damping_ratio_water']:.2f}" if water else "-"))  # fmt: skip
     root = f"root: {n['root']['kind']} ({', '.join(n['root']['dofs'])}), not servoed"
-    return "\n".join(["DOFs", root, _table(rows)])
+    inertia = ("I: each DOF's inertia, all others free [kg m^2 for a hinge]: in a vacuum "
+               "1/(M^-1)_ii, in water 1/((M + M_a)^-1)_ii with the added mass of the default "
+               "grid's Euler fluid; w, zeta: the servo's about it")  # fmt: skip
+    return "\n".join(["DOFs", root, _table(rows), inertia])
 
 
 def _gait_table(n: dict) -> str:
@@ -122,8 +129,24 @@ def _grid_lines(n: dict) -> str:
         f"energy bound: {n['energy_bound']:.4g} J of actuator work over two cycles "
         f"(past it the objective adds {n['energy_weight']:g} times the work [J])",
         f"PD servos: natural frequency {pd['natural_frequency']:g} rad/s, "
-        f"damping ratio {pd['damping_ratio']:g}",
+        f"damping ratio {pd['damping_ratio']:g} about each DOF's inertia in a vacuum"
+        f"{_in_water(n['dofs'])}; each step follows the continuous servo (sampled stable PD)",
     ])  # fmt: skip
+
+
+def _in_water(dofs: list[dict]) -> str:
+    """``; in water w .. rad/s, zeta ..``: the range of the servos' figures about their
+    inertia in water, or nothing when it was not measured."""
+    w = [d["natural_frequency_water"] for d in dofs if d.get("inertia_water") is not None]
+    zeta = [d["damping_ratio_water"] for d in dofs if d.get("inertia_water") is not None]
+    if not w:
+        return ""
+    return f"; in water, {_span(w, '.3g')} rad/s and damping ratio {_span(zeta, '.2f')}"
+
+
+def _span(values: list[float], spec: str) -> str:
+    low, high = f"{min(values):{spec}}", f"{max(values):{spec}}"
+    return low if low == high else f"{low}-{high}"
 
 
 def _notes(n: dict) -> str:
