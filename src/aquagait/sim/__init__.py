@@ -11,7 +11,8 @@ Modules, one concept each: ``scene`` (Scene, State, make_scene, init_state),
 ``fluids`` (the fluid models Vacuum, SimpleFluid and EulerFluid, each owning
 its fields, its step and its largest stable step), ``servo`` (the body's half
 of every step: the policy seam and the stable PD), ``follow`` (the grid that
-follows the swimmer), ``rollout`` (step, advance, rollout, Trajectory) and
+follows the swimmer), ``rollout`` (step, advance, rollout, Trajectory),
+``inertia`` (each DOF's inertia in its fluid, added mass included),
 ``frames`` (the fluid recorded per frame) and ``particles`` (traces through
 the recorded flow, for pictures and exports).
 """
@@ -27,6 +28,7 @@ from aquagait.sim.fluids import (
 )
 from aquagait.sim.follow import CLEARANCE, BodyOutsideGrid, GridGrew, growth_notes
 from aquagait.sim.frames import FluidFrames
+from aquagait.sim.inertia import inertia_in_fluid
 from aquagait.sim.memory import GridTooLarge
 from aquagait.sim.rollout import FRAMES_PER_SECOND, Trajectory, advance, rollout, step
 from aquagait.sim.scene import Scene, State, init_state, make_scene
@@ -53,6 +55,7 @@ __all__ = [
     "advance",
     "fluid_model",
     "growth_notes",
+    "inertia_in_fluid",
     "init_state",
     "make_scene",
     "rollout",
