@@ -85,10 +85,12 @@ not build up in the distance: the shipped eel2d and fish gaits swim the same
 distance within 0.02% at 1e-5, 1e-4, 1e-3 and 1e-2 (2 s and 1 s, sub-cell
 boundaries), while CG takes 7.4, 5.6, 3.7 and 1.8 iterations a step (eel2d;
 fish 5.8, 4.2, 3.0, 1.6). What does build up is asymmetry: the red-black
-smoother's colours are not mirror images, so a mirror-symmetric 2D swimmer
-turns by about the tolerance in a second (frog2d: 9.5e-4 rad at 1e-3, under
-1e-6 at 1e-5). 1e-4 keeps that small and still saves a quarter of the
-iterations of 1e-5."""
+smoother's colours are not mirror images, and the wake's mirror-asymmetric
+modes grow from that error, so a mirror-symmetric 2D swimmer turns a little
+(frog2d in its first second: 2.2e-3 rad at 1e-4, 1.3e-4 at 1e-6, 3.4e-6 at
+1e-8; while faces under half water were held to the body once a step, which
+damped those modes, 1.05e-5 at 1e-4). 1e-4 saves a quarter of the iterations
+of 1e-5."""
 
 MOSTLY_WATER = 0.0
 """A coupled face with at least this water fraction keeps the water's velocity after
