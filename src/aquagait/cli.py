@@ -45,6 +45,7 @@ def _cmd_bench(args) -> int:
                       compare_precision=args.compare_precision,
                       compare_boundary=args.compare_boundary,
                       compare_start=args.compare_start,
+                      compare_thin=args.compare_thin,
                       creature=args.creature, seeds=args.seeds)  # fmt: skip
     except (ValueError, KeyError) as err:  # KeyError: an unknown creature
         return _fail("bench", err, status=2)
@@ -513,6 +514,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--compare-start",
         action="store_true",
         help="swim: the step as the 3D-speed work found it beside today's, one run",
+    )
+    bench.add_argument(
+        "--compare-thin",
+        action="store_true",
+        help="swim: the step before thin parts were closed beside today's, one run",
     )
     bench.add_argument(
         "--creature", metavar="NAME", help="optimize: the creature to time (default eel2d)"

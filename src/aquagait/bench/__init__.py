@@ -19,6 +19,7 @@ def run_benchmark(
     compare_precision: bool = False,
     compare_boundary: bool = False,
     compare_start: bool = False,
+    compare_thin: bool = False,
     creature: str | None = None,
     seeds: int | None = None,
 ) -> list[dict]:
@@ -37,6 +38,8 @@ def run_benchmark(
             (``swim.compare_boundary``).
         compare_start: swim only: the step as the 3D-speed work found it beside
             today's (``swim.compare_start``).
+        compare_thin: swim only: the step before thin parts were closed beside
+            today's (``swim.compare_thin``).
         creature: optimize only: the creature whose optimization is timed
             (default eel2d).
         seeds: optimize only: default searches run whole, one per seed (default 3;
@@ -50,7 +53,8 @@ def run_benchmark(
         raise ValueError(f"repeats must be at least 1, got {repeats}")
     chosen = {"profile": profile, "compare_advection": compare_advection,
               "compare_precision": compare_precision,
-              "compare_boundary": compare_boundary, "compare_start": compare_start}  # fmt: skip
+              "compare_boundary": compare_boundary, "compare_start": compare_start,
+              "compare_thin": compare_thin}  # fmt: skip
     if any(chosen.values()) and what != "swim":
         raise ValueError(f"--profile and --compare-* are for 'swim', not {what!r}")
     if (creature is not None or seeds is not None) and what != "optimize":

@@ -252,6 +252,23 @@ def compare_boundary(repeats: int, out: TextIO) -> list[dict]:
     return _two_fluids(out, repeats, fluids, figures, ratio="cost", cost=True)
 
 
+def compare_thin(repeats: int, out: TextIO) -> list[dict]:
+    """The coupled step before and after thin parts were closed, in one run.
+
+    Before: water fractions alone, faces under half water held to the body once
+    a step (``boundary=voxelize_fractions, mostly_water=0.5``); after: the
+    default. Printed as ``compare_boundary``: ms per step of the voxelization,
+    the coupled solve and the whole step, and CG iterations per step, with
+    their ratio (after over before: the cost).
+    """
+    from aquagait.body.subcell import voxelize_fractions
+
+    fluids = {"fractions": dict(boundary=voxelize_fractions, mostly_water=0.5), "closed": {}}
+    figures = (("voxelize ms", "voxelize"), ("solve ms", "solve"), ("step ms", "step"),
+               ("CG its", "iterations"))  # fmt: skip
+    return _two_fluids(out, repeats, fluids, figures, ratio="cost", cost=True)
+
+
 ADVECT_AND_STEP = (("advect ms", "advect"), ("step ms", "step"))
 
 
