@@ -9,33 +9,38 @@ centres joined by an open face lie on opposite sides of it. Here, after
 Guendelman, Selle, Losasso and Fedkiw (2005) and Robinson-Mosher et al.
 (2008), such faces are closed inside the coupled system:
 
-- **Crossed faces.** A face whose two cell centres are both outside the body,
-  while the segment between them passes through a part, is closed (``w = 0``):
-  its whole control volume moves with the part (its links' shares, scaled up
-  to one), so the full pressure difference across it pushes the body and no
-  water crosses it.
+- **Crossed faces.** A face whose two cell centres face a part from opposite
+  sides is closed (``w = 0``): its whole control volume moves with the part
+  (its links' shares, scaled up to one), so the full pressure difference
+  across it pushes the body and no water crosses it. The side a centre faces
+  is the normal of the surface it meets: outside the body, where the segment
+  towards the other centre first comes within ``NEAR`` of the body; inside,
+  the nearest surface's. Opposite sides (normals more than ``OPPOSED``
+  apart) are a plate's two faces; a segment clipping a thick body's curved
+  side or corner meets surfaces that face the same way and is left alone.
 - **Thin cells.** A cell whose centre is inside a part that is thin there
   joins both sides through its own pressure. It is thin when two of its
-  neighbours' centres are outside the body and the segment between them
-  passes through the part: the two neighbours along one axis (the part is
-  thinner than two cells along it), or two along different axes whose
-  diagonal crosses it (a tilted part). Every face of a thin cell closes, so
-  the cell has no water and the sides share no pressure.
+  neighbours outside the body face the part from opposite sides: the two
+  neighbours along one axis (the part is thinner than two cells along it),
+  or two along different axes (a tilted part). Every face of a thin cell
+  closes, so the cell has no water and the sides share no pressure.
 
 Everywhere else the fractions stay as they are, so thick parts keep their
-second-order boundary. Faces and cells within a cell of a point more than a
-cell deep in the body are not examined at all: a part at least two cells
-thick keeps the water out with its fractions alone (a plate two cells thick
-felt 93-107 % of its added mass with them), and most of a creature's surface
-is such. Because the closure is part of the fractions, it is
-part of the one SPD solve: nothing is reset once a step.
+second-order boundary (a disc, a sphere and a turned box get the same faces
+with and without the closure). Faces and cells within a cell of a point more
+than a cell deep in the body are not examined at all: the part there is more
+than two cells thick, and the faces next to it are a thick body's, which is
+most of a creature's surface. Because the closure is part of the fractions,
+it is part of the one SPD solve: nothing is reset once a step.
 
-Where a segment passes through a part is found by sphere tracing the union of
-the links' signed distances (``aquagait.body.shape``) from one end: a step as
-long as the distance to the nearest surface cannot skip a part. The
-candidate links are those deepest at the lattice samples of the two cells
-(``subcell``'s half-cell lattice), since any link a segment passes through
-comes within half a cell of some sample there.
+Where a segment comes near a part is found by sphere tracing the union of the
+links' signed distances (``aquagait.body.shape``): a step as long as the
+distance to the nearest surface cannot pass through a part. The candidate
+links are those deepest or second deepest at the lattice samples of the
+cells involved (``subcell``'s half-cell lattice), since a link that a
+segment meets comes within half a cell of some sample there. Normals are
+central differences half a sample long, so a mirror-symmetric body gets
+mirror-symmetric closures.
 """
 
 from __future__ import annotations
