@@ -112,3 +112,14 @@ def test_a_thick_body_keeps_its_water_fractions(xml, dim):
         )
         np.testing.assert_array_equal(closed.solid, fractions.solid)
         np.testing.assert_array_equal(closed.face_weight, fractions.face_weight)
+
+
+def test_a_geom_under_one_and_a_half_samples_thick_is_baked_finer():
+    """A plate a fifth of a cell thick gets 8 samples a cell (1.6 across), a tenth 16;
+    a disc 8 cells across keeps 4; the finest stays within ``MAX_REFINE``."""
+    for thickness, refine in ((0.2, 8), (0.1, 16), (0.01, 16)):
+        model = load_model(plate(2, thickness * H, 0.0))
+        assert round(H / body_shape(model, H).spacing) == refine
+    disc = load_model(planar('<geom type="cylinder" size=".04 .02"/>'))
+    assert round(H / body_shape(disc, H).spacing) == 4
+    assert round(H / body_shape(disc, H, refine=2).spacing) == 2  # as asked
