@@ -27,10 +27,7 @@ Guendelman, Selle, Losasso and Fedkiw (2005) and Robinson-Mosher et al.
 
 Everywhere else the fractions stay as they are, so thick parts keep their
 second-order boundary (a disc, a sphere and a turned box get the same faces
-with and without the closure). Faces and cells within a cell of a point more
-than a cell deep in the body are not examined at all: the part there is more
-than two cells thick, and the faces next to it are a thick body's, which is
-most of a creature's surface. Because the closure is part of the fractions,
+with and without the closure). Because the closure is part of the fractions,
 it is part of the one SPD solve: nothing is reset once a step.
 
 Where a segment comes near a part is found by sphere tracing the union of the
@@ -47,7 +44,6 @@ from __future__ import annotations
 
 import numba
 import numpy as np
-from scipy import ndimage
 
 from aquagait.body.shape import PAD
 from aquagait.body.voxelize import link_distance
@@ -80,53 +76,16 @@ def close_thin_parts_(baked, rot, pos, origin, h, first, phi, link, weights, lin
     """
     dim = len(weights)
     count = np.array(weights[0].shape) - np.eye(3, dtype=np.int64)[0]
-    thick = _beside_thick(phi, h, tuple(count), dim)
     centre = np.empty(tuple(count))
     _centre_distances_(*baked, rot, pos, origin, h, first, link, centre)
     for a in range(dim):
-        _close_crossed_(*baked, rot, pos, origin, h, first, link, centre, thick, a, weights[a],
+        _close_crossed_(*baked, rot, pos, origin, h, first, link, centre, a, weights[a],
                         links[a], shares[a])  # fmt: skip
     thin = np.full(tuple(count), -1, np.int64)
-    _thin_cells_(*baked, rot, pos, origin, h, first, link, centre, thick, dim, thin)
+    _thin_cells_(*baked, rot, pos, origin, h, first, link, centre, dim, thin)
     if (thin >= 0).any():
         for a in range(dim):
             _close_cell_faces_(thin, a, weights[a], links[a], shares[a])
-
-
-def _beside_thick(phi, h: float, count: tuple, dim: int) -> np.ndarray:
-    """The box's cells within a cell of a lattice sample more than a cell deep, ``count``
-    bool: a part there is at least two cells thick, and its fractions alone keep
-    the water out (a part thinner than two cells has no point a cell deep)."""
-    deep = np.zeros(count, bool)
-    _deep_cells_(phi, h, deep)
-    if not deep.any():
-        return deep
-    structure = np.ones((3,) * dim + (1,) * (3 - dim), bool)
-    return ndimage.binary_dilation(deep, structure=structure)
-
-
-@numba.njit(cache=True, nogil=True)
-def _deep_cells_(phi, h, deep):
-    """Mark the cells one of whose lattice samples is more than a cell inside, in place."""
-    for i in range(deep.shape[0]):
-        for j in range(deep.shape[1]):
-            for l in range(deep.shape[2]):
-                deep[i, j, l] = _cell_deepest(phi, i, j, l) < -h
-
-
-@numba.njit(cache=True, nogil=True)
-def _cell_deepest(phi, i, j, l):
-    """The least signed distance at cell (i, j, l)'s lattice samples."""
-    s0, s1, s2 = phi.shape[1], phi.shape[2], phi.shape[3]
-    least = np.inf
-    for di in range(2 if s0 > 1 else 1):
-        for dj in range(2 if s1 > 1 else 1):
-            for dl in range(2 if s2 > 1 else 1):
-                a = 2 * i + 1 + di if s0 > 1 else 0
-                b = 2 * j + 1 + dj if s1 > 1 else 0
-                c = 2 * l + 1 + dl if s2 > 1 else 0
-                least = min(least, phi[0, a, b, c])
-    return least
 
 
 @numba.njit(cache=True, nogil=True)
@@ -143,7 +102,7 @@ def _centre_distances_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, f
 
 @numba.njit(cache=True, nogil=True)
 def _close_crossed_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, first, link, centre,
-                    thick, a, weight, links, shares):  # fmt: skip
+                    a, weight, links, shares):  # fmt: skip
     """Close the faces normal to ``a`` whose cell centres face a part from opposite
     sides, in place."""
     cand = np.empty(64, np.int64)
@@ -157,8 +116,6 @@ def _close_crossed_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, firs
                 if weight[i, j, l] >= 1.0 or weight[i, j, l] == 0.0:
                     continue
                 p, q, r = i - step[0], j - step[1], l - step[2]
-                if thick[p, q, r] and thick[i, j, l]:
-                    continue
                 below, above = centre[p, q, r], centre[i, j, l]
                 if 0.0 < below < np.inf and 0.0 < above < np.inf and below + above >= clear:
                     continue  # balls free of the body cover the segment, with room to spare
@@ -174,7 +131,7 @@ def _close_crossed_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, firs
 
 @numba.njit(cache=True, nogil=True)
 def _thin_cells_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, first, link, centre,
-                 thick, dim, thin):  # fmt: skip
+                 dim, thin):  # fmt: skip
     """Mark the box's cells whose centre is on a part thin there with that part's link,
     in place: two of their neighbours outside the body straddle it (the
     neighbours along one axis, or two along different axes)."""
@@ -184,8 +141,8 @@ def _thin_cells_(sdf, offset, dims, lower, spacing, rot, pos, origin, h, first, 
     for i in range(shape[0]):
         for j in range(shape[1]):
             for l in range(shape[2]):
-                if centre[i, j, l] > 0.0 or thick[i, j, l]:
-                    continue
+                if centre[i, j, l] > 0.0 or centre[i, j, l] <= -h:
+                    continue  # deeper than a cell: no neighbour is outside
                 n = _cell_candidates(link, i, j, l, cand, 0)
                 cell = (i, j, l)
                 for pair in range(4 * dim * dim):
@@ -276,11 +233,9 @@ def _side(sdf, offset, dims, lower, spacing, rot, pos, cand, n, start, end):
 def _trace(sdf, offset, dims, lower, spacing, rot, pos, cand, n, start, end):
     """Where the segment from ``start`` to ``end`` first comes within ``NEAR`` samples of
     a candidate link, and that link (-1 if it never does): sphere tracing the
-    union of their signed distances. A step as long as the distance cannot pass
-    through a part, though it may pass a point within ``NEAR`` of one without
-    stopping there: the trace stops where it first finds itself that near. Off
-    every candidate's grid the distance is unknown but at least the grids'
-    margin (``shape.PAD`` samples), so that is the step there."""
+    union of their signed distances, less ``NEAR``. Off every candidate's grid
+    the distance is unknown but at least the grids' margin (``shape.PAD``
+    samples), so that is the step there."""
     dx, dy, dz = end[0] - start[0], end[1] - start[1], end[2] - start[2]
     length = np.sqrt(dx * dx + dy * dy + dz * dz)
     near = NEAR * spacing
@@ -291,7 +246,7 @@ def _trace(sdf, offset, dims, lower, spacing, rot, pos, cand, n, start, end):
         phi, k = _union(sdf, offset, dims, lower, spacing, rot, pos, cand, n, x)
         if phi <= near:
             return k, x
-        s += max(min(phi, PAD * spacing), SMALLEST_STEP * spacing)
+        s += max(min(phi - near, PAD * spacing), SMALLEST_STEP * spacing)
     return -1, end
 
 
