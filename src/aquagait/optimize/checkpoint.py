@@ -47,6 +47,8 @@ LOG_COLUMNS = (
     "failed",
     "lost",
     "refinements",
+    "modelled",
+    "tau",
 )
 FAILURE_COLUMNS = ("generation", "group", "sample", "status", "reason")
 
@@ -77,13 +79,16 @@ LATER = ("objective", "target")
 
 
 def _settings(problem: Problem, settings: Settings) -> dict:
-    """The settings that shape the run: `refine_top` only for a coarse-to-fine one, so
-    checkpoints written before it existed still resume."""
+    """The settings that shape the run: `refine_top` only for a coarse-to-fine one and the
+    surrogate's only for a search with one, so checkpoints written before they existed
+    still resume."""
     values = settings.as_dict()
     if problem.refine is None:
         del values["refine_top"]
     else:
         values["refine"] = True
+    if not settings.surrogate:
+        del values["surrogate"], values["surrogate_batch"]
     return values
 
 

@@ -48,6 +48,7 @@ from aquagait.optimize import checkpoint
 from aquagait.optimize.evaluate import FAILED, LOST, OK, ExecutorLost, evaluate
 from aquagait.optimize.executors import check_picklable
 from aquagait.optimize.problem import GenerationReport, Problem, Result, Settings
+from aquagait.optimize.surrogate import Surrogate
 
 if TYPE_CHECKING:
     import cma
@@ -80,6 +81,7 @@ class _Run:
     best_f: float = math.inf
     group: int = 0  # the group being optimized
     es: cma.CMAEvolutionStrategy | None = None  # its CMA-ES; None before it starts
+    surrogate: Surrogate | None = None  # its model, with Settings.surrogate
     group_generations: int = 0
     evaluations: int = 0
     refinements: int = 0  # evaluations of Problem.refine
@@ -141,6 +143,9 @@ def optimize(
             continue
         if run.es is None:
             run.es = _strategy(problem, settings, phases[run.group], run)
+            if settings.surrogate:
+                popsize = settings.for_group(len(phases[run.group]))[0]
+                run.surrogate = Surrogate(popsize, settings.surrogate_batch)
         reason = _stop_reason(run, settings, len(phases[run.group]))
         if reason:
             _end_group(run, reason, len(phases))
@@ -299,7 +304,7 @@ def _budget_spent(run: _Run, settings: Settings) -> bool:
 
 def _end_group(run: _Run, reason: str, groups: int) -> None:
     run.stopped.append(f"group {run.group}: {reason}" if groups > 1 else reason)
-    run.group, run.es, run.group_generations = run.group + 1, None, 0
+    run.group, run.es, run.surrogate, run.group_generations = run.group + 1, None, None, 0
     run.group_start_f = run.best_f
     run.finished = run.group == groups
 
@@ -311,7 +316,8 @@ def _end_run(run: _Run, reason: str, groups: int) -> None:
 
 
 def _generation(problem: Problem, settings: Settings, group, run: _Run, executor) -> None:
-    """Ask, reject infeasible samples, evaluate, tell; record the generation."""
+    """Ask, reject infeasible samples, evaluate (all, or those the surrogate asks for), tell;
+    record the generation."""
     base = run.best_x  # the coordinates outside the group stay at the best so far
 
     def full(z) -> np.ndarray:
@@ -322,37 +328,48 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
     samples = run.es.ask()
     infeasible, resamples = _reject_infeasible(run.es, samples, full, problem.feasible, settings)
     todo = [i for i in range(len(samples)) if i not in infeasible]
-    cut = (
-        settings.max_evaluations is not None
-        and run.evaluations + len(todo) > settings.max_evaluations
-    )
-    if cut:  # the budget's last generation: evaluate up to the cap, tell CMA-ES nothing
-        todo = todo[: settings.max_evaluations - run.evaluations]
-    outcomes = evaluate(
-        problem.objective, [full(samples[i]) for i in todo], executor, settings.retries,
-        settings.penalty,
-    )  # fmt: skip
+    cap = settings.max_evaluations
+    budget = None if cap is None else cap - run.evaluations
     values = np.full(len(samples), float(settings.penalty))
     reason = f"infeasible after max_resamples = {settings.max_resamples} redraws"
     penalized = {i: (INFEASIBLE, reason) for i in infeasible}
-    for i, outcome in zip(todo, outcomes, strict=True):
-        values[i] = outcome.value
-        if outcome.status != OK:
-            penalized[i] = (outcome.status, outcome.message)
-            log.warning(
-                "generation %d, sample %d %s (%s): penalty %g",
-                len(run.history) + 1, i, outcome.status, outcome.message, settings.penalty,
-            )  # fmt: skip
-    succeeded = [i for i in todo if i not in penalized]
+    swum: list[int] = []
+
+    def swim(indices: list[int]) -> dict[int, float]:
+        """Evaluate one batch; the values of the samples that succeeded."""
+        outcomes = evaluate(
+            problem.objective, [full(samples[i]) for i in indices], executor, settings.retries,
+            settings.penalty,
+        )  # fmt: skip
+        for i, outcome in zip(indices, outcomes, strict=True):
+            values[i] = outcome.value
+            if outcome.status != OK:
+                penalized[i] = (outcome.status, outcome.message)
+                log.warning(
+                    "generation %d, sample %d %s (%s): penalty %g",
+                    len(run.history) + 1, i, outcome.status, outcome.message, settings.penalty,
+                )  # fmt: skip
+        swum.extend(indices)
+        return {i: float(values[i]) for i in indices if i not in penalized}
+
+    if run.surrogate is None:
+        swim(todo[:budget])
+        told = values
+    else:
+        ranking = run.surrogate.rank({i: samples[i] for i in todo}, swim, budget)
+        told = np.full(len(samples), float(settings.penalty))
+        told[list(ranking)] = list(ranking.values())
+    cut = len(swum) < len(todo) and len(swum) == budget  # the budget's last generation
+    if not cut:  # (cut short: evaluated up to the cap, and CMA-ES is told nothing)
+        run.es.tell(samples, told.tolist())
+    succeeded = [i for i in swum if i not in penalized]
     ranked = sorted(succeeded, key=lambda i: values[i])  # stable: the first of equals first
     if problem.refine is None:
         scored = [(i, values[i]) for i in ranked[:1]]
     else:
         scored = _refined(problem, settings, ranked, full, samples, executor)
         run.refinements += len(scored)
-    if not cut:
-        run.es.tell(samples, values.tolist())
-    run.evaluations += len(todo)
+    run.evaluations += len(swum)
     run.group_generations += 1
     for i, value in scored:
         if value < run.best_f:
@@ -361,7 +378,10 @@ def _generation(problem: Problem, settings: Settings, group, run: _Run, executor
         {"sample": i, "status": status, "reason": why, "x": full(samples[i]).tolist()}
         for i, (status, why) in sorted(penalized.items())
     ]
-    run.history.append(_record(run, values[succeeded], penalties, resamples, len(samples)))
+    modelled = len(todo) - len(swum)
+    run.history.append(
+        _record(run, values[succeeded], penalties, resamples, len(samples), modelled)
+    )
 
 
 def _refined(problem: Problem, settings: Settings, ranked, full, samples, executor) -> list:
@@ -379,9 +399,10 @@ def _refined(problem: Problem, settings: Settings, ranked, full, samples, execut
 
 
 def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: int,
-            samples: int) -> dict:  # fmt: skip
+            samples: int, modelled: int) -> dict:  # fmt: skip
     """One row of the history: the run after a generation of ``samples`` drawn samples
-    (CMA-ES's population) whose good values are `succeeded`."""
+    (CMA-ES's population) whose good values are `succeeded`, ``modelled`` of them ranked by
+    the surrogate without a swim."""
     statuses = [p["status"] for p in penalized]
     failed, lost, infeasible = (statuses.count(s) for s in (FAILED, LOST, INFEASIBLE))
     return {
@@ -400,6 +421,8 @@ def _record(run: _Run, succeeded: np.ndarray, penalized: list[dict], resamples: 
         "samples": samples,
         "elapsed": run.elapsed,
         "refinements": run.refinements,
+        "modelled": modelled,
+        "tau": math.nan if run.surrogate is None else float(run.surrogate.tau),
         "best_x": run.best_x.tolist(),
         "penalized": penalized,
     }

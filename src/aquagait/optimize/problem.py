@@ -192,6 +192,15 @@ class Settings:
         tolx: pycma's stopping tolerance on the step size in x.
         refine_top: with `Problem.refine`, how many of every generation's best
             samples (by `objective`) are evaluated with `refine`.
+        surrogate: lq-CMA-ES (``optimize.surrogate``): a quadratic model of the objective
+            over the samples evaluated so far ranks each generation, and only the samples
+            whose ranks it cannot vouch for are evaluated. ``max_evaluations``, the
+            history's ``evaluations`` and the patience rule count real evaluations and
+            generations as without it.
+        surrogate_batch: with ``surrogate``, the fewest samples evaluated at a time: the
+            number of workers that should stay busy. Part of the search (it decides which
+            samples are evaluated), so the same seed and batch give the same result on any
+            executor.
     """
 
     popsize: int | None = None
@@ -206,6 +215,8 @@ class Settings:
     tolfun: float = 1e-11
     tolx: float = 1e-11
     refine_top: int = 2
+    surrogate: bool = False
+    surrogate_batch: int = 2
 
     def __post_init__(self):
         checks = [
@@ -217,6 +228,7 @@ class Settings:
             ("patience", self.patience, 1),
             ("max_resamples", self.max_resamples, 0),
             ("retries", self.retries, 0),
+            ("surrogate_batch", self.surrogate_batch, 1),
         ]
         for name, value, least in checks:
             if value is None and name in OPTIONAL:
@@ -226,6 +238,8 @@ class Settings:
                 raise ValueError(
                     f"Settings.{name} must be an integer >= {least}{none}, got {value!r}"
                 )
+        if not isinstance(self.surrogate, bool | np.bool_):
+            raise ValueError(f"Settings.surrogate must be True or False, got {self.surrogate!r}")
         if not np.isfinite(self.penalty):
             raise ValueError(f"Settings.penalty must be finite, got {self.penalty!r}")
         for name in ("tolfun", "tolx", "tolerance"):
