@@ -6,6 +6,7 @@ import argparse
 import contextlib
 import dataclasses
 import math
+import os
 import signal
 import sys
 import threading
@@ -250,6 +251,8 @@ def optimization_setup(args):
         cycles=args.cycles,
         free_period=args.free_period,
         turn_limit=args.turn_limit,
+        surrogate=args.surrogate,
+        surrogate_batch=args.surrogate_batch,
     )
 
 
@@ -285,6 +288,7 @@ def _optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, 
             print(f"optimizing {name}: {size} parameters, {setup.budget()}; {workers}",
                   file=sys.stderr)  # fmt: skip
             _say_if_finished(out, args.resume)
+            _say_if_idle(setup.settings, args)
             result = run_optimization(setup, out, executor, args.resume, GenerationLine())
     except ExecutorLost as err:
         return _fail("optimize", err, status=1)
@@ -309,6 +313,15 @@ def _say_if_finished(out: Path, resume: bool) -> None:
     if stopped is not None:
         print(f"the run in {out} has already stopped ({stopped}): nothing to resume; "
               "its best gait is written and swum again", file=sys.stderr)  # fmt: skip
+
+
+def _say_if_idle(settings, args) -> None:
+    """A surrogate batch smaller than the local worker count leaves workers idle."""
+    workers = args.workers or os.cpu_count() or 1  # None: all cores
+    if settings.surrogate and not args.scheduler and settings.surrogate_batch < workers:
+        print(f"note: --surrogate-batch {settings.surrogate_batch} keeps at most that many "
+              f"of the {workers} workers busy; give --surrogate-batch {workers}",
+              file=sys.stderr)  # fmt: skip
 
 
 def _executor(args):
@@ -590,6 +603,12 @@ def build_parser() -> argparse.ArgumentParser:
                           "parameters; the paper's: 16 in 2D, 31 in 3D)")  # fmt: skip
     optimize.add_argument("--max-evaluations", type=int, metavar="N",
                           help="stop after N swims in all (default: no cap)")  # fmt: skip
+    optimize.add_argument("--surrogate", action="store_true",
+                          help="lq-CMA-ES: a quadratic model of the objective ranks each "
+                          "generation and only what it cannot vouch for is swum")  # fmt: skip
+    optimize.add_argument("--surrogate-batch", type=int, default=2, metavar="N",
+                          help="with --surrogate: swim at least N samples at a time; give at "
+                          "least --workers (default 2)")  # fmt: skip
     optimize.add_argument("--patience", type=int, metavar="G",
                           help="stop a group when its best improved less than 1%% in G "
                           "generations (default: 10 + 30 n / popsize; off with "

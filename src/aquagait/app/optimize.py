@@ -227,6 +227,7 @@ class OptimizationSetup:
             target_grid=None if self.problem.refine is None else
             [self.target.resolution, self.target.cell_size],
             refine_top=None if self.problem.refine is None else s.refine_top,
+            surrogate=s.surrogate, surrogate_batch=s.surrogate_batch if s.surrogate else None,
         )  # fmt: skip
 
     def populations(self) -> list[int]:
@@ -248,6 +249,8 @@ class OptimizationSetup:
             )
         if s.max_evaluations is not None:
             words.append(f"at most {s.max_evaluations} evaluations")
+        if s.surrogate:
+            words.append(f"lq-CMA-ES surrogate, swimming {s.surrogate_batch} or more at a time")
         return ", ".join(words)
 
 
@@ -273,6 +276,8 @@ def prepare_optimization(
     min_speed: float | None = None,
     free_period: bool = False,
     turn_limit: float | None = None,
+    surrogate: bool = False,
+    surrogate_batch: int = 2,
 ) -> OptimizationSetup:
     """Resolve and check an optimization of a library creature's gait.
 
@@ -333,6 +338,12 @@ def prepare_optimization(
             over a sample [rad]; None: ``objectives.TURN`` (90 degrees).
             Smaller, a slow turner's search buys travel past it instead of more rotation
             (a radian is worth a metre, more than a small creature's length).
+        surrogate: lq-CMA-ES (``aquagait.optimize.surrogate``): a quadratic model of the
+            objective ranks each generation and only the samples it cannot vouch for
+            are swum.
+        surrogate_batch: with ``surrogate``, the fewest samples swum at a time; at least
+            the number of workers, so that none idles (it is part of the search: the
+            same seed and batch give the same gait on any executor).
 
     Raises:
         OptimizationSetupError: with what was wrong and what would be right.
@@ -407,7 +418,8 @@ def prepare_optimization(
     try:
         settings = Settings(popsize=popsize, generations=generations, seed=seed,
                             refine_top=refine_top, max_evaluations=max_evaluations,
-                            patience=patience)  # fmt: skip
+                            patience=patience, surrogate=surrogate,
+                            surrogate_batch=surrogate_batch)  # fmt: skip
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     notes += efficiency_notes + _room_notes(scene, gait, problem)
