@@ -250,6 +250,20 @@ def test_the_default_search_stops_by_itself_and_a_resume_after_it_says_so(tmp_pa
     assert "objective.weights.deviation: 0.2 in the checkpoint, 1.0 now" in capsys.readouterr().err
 
 
+def test_a_damaged_checkpoint_is_refused_with_its_name_and_what_to_do(tmp_path, capsys):
+    (tmp_path / "checkpoint.pkl").write_text("garbage")
+    (tmp_path / "optimization.csv").write_text("generation\n1\n")
+    argv = ["optimize", "eel2d", "--workers", "1", "--out", str(tmp_path), "--resume",
+            "--resolution", "48", "28", "--cell-size", "0.025", "--no-video"]  # fmt: skip
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"error: the checkpoint {tmp_path / 'checkpoint.pkl'} cannot be read (" in err
+    assert "Nothing else in" in err and "start the search again in another directory" in err
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["checkpoint.pkl",
+                                                                 "optimization.csv"]  # fmt: skip
+    assert (tmp_path / "optimization.csv").read_text() == "generation\n1\n"
+
+
 def test_a_generation_count_alone_keeps_the_papers_fixed_budget():
     setup = prepare_optimization("eel2d", generations=100, popsize=16, **COARSE)
     assert setup.settings.for_group(8) == (16, None)

@@ -21,7 +21,7 @@ from optimize_cases import (
     within,
 )
 
-from aquagait.optimize import CHECKPOINT, LOG, Settings, checkpoint, optimize
+from aquagait.optimize import CHECKPOINT, LOG, CorruptCheckpoint, Settings, checkpoint, optimize
 
 HERE = Path(__file__).resolve().parent
 
@@ -187,6 +187,21 @@ def test_resume_needs_a_checkpoint_and_a_new_run_never_overwrites_one(tmp_path):
     optimize(grouped(), Settings(popsize=6, generations=1), run_dir=tmp_path)
     with pytest.raises(FileExistsError, match="already holds an optimization checkpoint"):
         optimize(grouped(), GROUPED, run_dir=tmp_path)
+
+
+@pytest.mark.parametrize(
+    "damage", [b"garbage", b"", pickle.dumps([1, 2]), b"\x80\x05\x95 truncated"]
+)
+def test_a_damaged_checkpoint_is_refused_by_name_and_nothing_else_is_touched(tmp_path, damage):
+    optimize(grouped(), GROUPED, run_dir=tmp_path)
+    (tmp_path / CHECKPOINT).write_bytes(damage)
+    before = {path.name: path.read_bytes() for path in tmp_path.iterdir()}
+    with pytest.raises(CorruptCheckpoint) as refused:
+        optimize(grouped(), GROUPED, run_dir=tmp_path, resume=True)
+    message = str(refused.value)
+    assert f"the checkpoint {tmp_path / CHECKPOINT} cannot be read" in message
+    assert f"Nothing else in {tmp_path} was touched" in message and "Restore" in message
+    assert {path.name: path.read_bytes() for path in tmp_path.iterdir()} == before
 
 
 def test_the_log_has_a_row_per_generation_and_the_best_parameters(tmp_path):

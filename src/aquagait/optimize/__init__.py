@@ -19,7 +19,7 @@ paper's 16 x 100.
 """
 
 from aquagait.optimize import checkpoint
-from aquagait.optimize.checkpoint import CHECKPOINT, FAILURES, LOG
+from aquagait.optimize.checkpoint import CHECKPOINT, FAILURES, LOG, CorruptCheckpoint
 from aquagait.optimize.cmaes import finished_run, optimize
 from aquagait.optimize.evaluate import ExecutorLost, Outcome, evaluate
 from aquagait.optimize.executors import (
@@ -39,6 +39,7 @@ from aquagait.optimize.problem import (
 
 __all__ = [
     "CHECKPOINT",
+    "CorruptCheckpoint",
     "FAILURES",
     "LOG",
     "DaskExecutor",

@@ -126,20 +126,45 @@ def save(run_dir: Path, state: dict) -> None:
     _write_atomically(Path(run_dir) / CHECKPOINT, pickle.dumps({"format": FORMAT, **state}))
 
 
+class CorruptCheckpoint(ValueError):
+    """A checkpoint that is there but cannot be read: damaged, or not a checkpoint."""
+
+
 def load(run_dir: Path) -> dict:
-    """Read run_dir/checkpoint.pkl; raise FileNotFoundError if there is none."""
+    """Read run_dir/checkpoint.pkl.
+
+    Raises:
+        FileNotFoundError: there is none.
+        CorruptCheckpoint: it cannot be unpickled into a checkpoint (the message names
+            the file, says that nothing else was touched and what to do).
+        ValueError: it was written in another checkpoint format.
+    """
     path = Path(run_dir) / CHECKPOINT
     if not path.is_file():
         raise FileNotFoundError(
             f"no checkpoint {path}: nothing to resume. Start a new run without resume."
         )
-    with path.open("rb") as file:
-        state = pickle.load(file)
+    try:
+        with path.open("rb") as file:
+            state = pickle.load(file)
+    except Exception as err:  # a damaged pickle raises almost anything, by its first bytes
+        raise CorruptCheckpoint(_unreadable(path, f"{type(err).__name__}: {err}")) from err
+    if not isinstance(state, dict):
+        raise CorruptCheckpoint(_unreadable(path, f"it holds a {type(state).__name__}"))
     if state.get("format") != FORMAT:
         raise ValueError(
             f"{path} has checkpoint format {state.get('format')!r}; this aquagait reads {FORMAT}"
         )
     return state
+
+
+def _unreadable(path: Path, why: str) -> str:
+    return (
+        f"the checkpoint {path} cannot be read ({why}): it is damaged or not a checkpoint. "
+        f"Nothing else in {path.parent} was touched: {LOG} and {FAILURES} hold the "
+        "generations run so far. Restore the file from a copy to resume, or start "
+        "the search again in another directory."
+    )
 
 
 def write_log(run_dir: Path, history: list[dict], names: tuple[str, ...]) -> None:
