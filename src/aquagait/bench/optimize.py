@@ -11,28 +11,38 @@ every figure from this one run:
    scene. The baseline is the serial rate (the scaling ratio). A sample whose
    swim fails (the body outgrows the grid, say) is timed as far as it got and
    counts as a penalty, as in an optimization; a note says how many did.
-2. **The default search, whole.** ``aquagait optimize NAME --start hand-set``
-   (the creature's hand-set gait where it ships one, else its default) with
-   the default budget (``aquagait.optimize.Settings``: CMA-ES's population,
-   stop when converged), on two worker processes, once per seed
-   (``--seeds``): samples to its stop, wall time and best objective each,
-   and their medians. Beside it, the paper's budget (population 16 in 2D and
-   31 in 3D, 100 generations) projected at the two-worker rate measured in
-   part 1: the ratio of the two is the speed-up of the fitted budget.
+2. **The default search and the surrogate's, whole.** ``aquagait optimize
+   NAME --start hand-set`` (the creature's hand-set gait where it ships one,
+   else its default) with the default budget (``aquagait.optimize.Settings``:
+   CMA-ES's population, stop when converged), and the same with
+   ``--surrogate`` (lq-CMA-ES, two swims at a time), on two worker processes,
+   the two in turn for each seed (``--seeds``): samples to its stop, wall time
+   and best objective each, and their medians; the surrogate's ratios to the
+   default's, and whether its median best is within 0.5 % of it. Beside them,
+   the paper's budget (population 16 in 2D and 31 in 3D, 100 generations)
+   projected at the two-worker rate measured in part 1: the ratio is the
+   speed-up of the fitted budget. The runs are kept in
+   ``runs/bench/optimize-NAME/`` (each replaced when the benchmark runs again),
+   with ``convergence.png``: the best objective against real swims, both searches.
 
-Targets (issue 29), whole default search on 2 workers: eel2d 5 min, the fish
-20 min, eel3d, the manta and turtle3d 45 min, the alien 1 h, the frog 2 h.
+Targets, whole search on 2 workers: eel2d 5 min, the fish 20 min, eel3d, the
+manta and turtle3d 45 min, the alien 1 h, the frog 2 h; the surrogate's median
+best within 0.5 % of the default's.
 """
 
 from __future__ import annotations
 
+import math
+import shutil
 import statistics
-import tempfile
 import time
 from functools import partial
+from pathlib import Path
 from typing import TextIO
 
 import numpy as np
+
+from aquagait.optimize.checkpoint import LOG
 
 GENERATIONS = 100
 COARSE_FACTOR = 2.0
@@ -41,7 +51,7 @@ TARGET_MINUTES = {
     "eel2d": 5.0, "fish": 20.0, "eel3d": 45.0, "manta": 45.0, "turtle3d": 45.0, "alien": 60.0,
     "frog": 120.0,
 }  # fmt: skip
-"""Issue 29's targets for the whole default search on 2 workers [min]."""
+"""The targets for the whole search on 2 workers [min]."""
 
 
 def run(repeats: int, out: TextIO, creature: str = "eel2d", seeds: int = 3) -> list[dict]:
@@ -103,38 +113,81 @@ def _sample_rates(repeats: int, out: TextIO, creature: str) -> tuple[list[dict],
     return rows, rate
 
 
+SEARCHES = {"default": {}, "surrogate": {"surrogate": True, "surrogate_batch": 2}}
+"""The searches run whole, by label: the default and lq-CMA-ES swimming two at a time
+(one sample for each of the two workers)."""
+
+
 def _default_searches(creature: str, seeds: int, rate: dict, out: TextIO) -> list[dict]:
-    """Part 2: the default search, whole, once per seed, beside the paper's budget."""
+    """Part 2: the default search and the surrogate's, whole, seed by seed in turn, beside
+    the paper's budget; their convergence drawn in one picture."""
     from aquagait.app.optimize import POPULATION, prepare_optimization, run_optimization
     from aquagait.optimize import local_executor
 
     start = "hand-set" if "hand-set" in _gaits(creature) else None
-    print(f"\n{'seed':>4}{'samples':>9}{'generations':>13}{'minutes':>9}{'best':>10}  stopped "
-          f"(optimize {creature} --start {start or 'default'} --seed S, 2 workers)", file=out,
-          flush=True)  # fmt: skip
+    runs = Path("runs") / "bench" / f"optimize-{creature}"
+    print(f"\n{'seed':>4}  {'search':<10}{'samples':>8}{'generations':>13}{'minutes':>9}"
+          f"{'best':>10}  stopped (optimize {creature} --start {start or 'default'} --seed S "
+          f"[--surrogate], 2 workers)", file=out, flush=True)  # fmt: skip
     rows = []
     for seed in range(1, seeds + 1):
-        setup = prepare_optimization(creature, seed=seed, start=start)
-        with tempfile.TemporaryDirectory() as run_dir, local_executor(2) as pool:
-            began = time.perf_counter()
-            result = run_optimization(setup, run_dir, pool)
-            minutes = (time.perf_counter() - began) / 60
-        rows.append(dict(creature=creature, seed=seed, samples=result.evaluations,
-                         generations=result.generations, minutes=minutes, best=result.best_f,
-                         stopped=result.stopped))  # fmt: skip
-        print(f"{seed:>4}{result.evaluations:>9}{result.generations:>13}{minutes:>9.1f}"
-              f"{result.best_f:>10.4g}  {result.stopped}", file=out, flush=True)  # fmt: skip
-    samples = statistics.median(row["samples"] for row in rows)
-    minutes = statistics.median(row["minutes"] for row in rows)
+        for search, flags in SEARCHES.items():
+            setup = prepare_optimization(creature, seed=seed, start=start, **flags)
+            run_dir = runs / f"{search}-seed{seed}"
+            shutil.rmtree(run_dir, ignore_errors=True)  # this benchmark's own, of a run before
+            run_dir.mkdir(parents=True)
+            with local_executor(2) as pool:
+                began = time.perf_counter()
+                result = run_optimization(setup, run_dir, pool)
+                minutes = (time.perf_counter() - began) / 60
+            rows.append(dict(creature=creature, seed=seed, search=search,
+                             samples=result.evaluations, generations=result.generations,
+                             minutes=minutes, best=result.best_f, stopped=result.stopped,
+                             log=run_dir / LOG))  # fmt: skip
+            print(f"{seed:>4}  {search:<10}{result.evaluations:>8}{result.generations:>13}"
+                  f"{minutes:>9.1f}{result.best_f:>10.4g}  {result.stopped}", file=out,
+                  flush=True)  # fmt: skip
+    plain, modelled = ([row for row in rows if row["search"] == s] for s in SEARCHES)
+    samples, minutes, best = (statistics.median(row[k] for row in plain) for k in _MEDIANS)
     paper_samples = POPULATION[setup.creature.dim] * GENERATIONS
     paper = paper_samples / rate["target"]
     goal = TARGET_MINUTES.get(creature)
-    verdict = f" (target {goal:.0f} min: {'met' if minutes <= goal else 'missed'})" if goal else ""
     print(f"default search: median {samples:.0f} samples to its stop, {60 * minutes / samples:.2f} "
-          f"s a sample on 2 workers, {minutes:.1f} min whole{verdict}; the paper's budget "
-          f"({paper_samples} samples) {paper:.1f} min at this run's rate: {paper / minutes:.1f}x "
-          f"the time, {paper_samples / samples:.1f}x the samples", file=out)  # fmt: skip
+          f"s a sample on 2 workers, {minutes:.1f} min whole{_verdict(minutes, goal)}; the "
+          f"paper's budget ({paper_samples} samples) {paper:.1f} min at this run's rate: "
+          f"{paper / minutes:.1f}x the time, {paper_samples / samples:.1f}x the samples",
+          file=out)  # fmt: skip
+    m_samples, m_minutes, m_best = (statistics.median(row[k] for row in modelled)
+                                    for k in _MEDIANS)  # fmt: skip
+    worse = (m_best - best) / abs(best) if best else math.nan  # > 0: a worse (higher) best
+    quality = "met" if worse <= QUALITY else "missed"
+    print(f"surrogate search: median {m_samples:.0f} samples ({samples / m_samples:.2f}x "
+          f"fewer), {m_minutes:.1f} min whole ({minutes / m_minutes:.2f}x faster)"
+          f"{_verdict(m_minutes, goal)}; median best {m_best:.4g} against {best:.4g}, "
+          f"{100 * worse:+.2f} % (target within +{100 * QUALITY:g} %: {quality})",
+          file=out)  # fmt: skip
+    _draw(creature, {search: [row["log"] for row in rows if row["search"] == search]
+                     for search in SEARCHES}, runs / "convergence.png", out)  # fmt: skip
     return rows
+
+
+_MEDIANS = ("samples", "minutes", "best")
+QUALITY = 0.005
+"""The surrogate's median best may be this much worse than the default's (a share of it)."""
+
+
+def _verdict(minutes: float, goal: float | None) -> str:
+    return f" (target {goal:.0f} min: {'met' if minutes <= goal else 'missed'})" if goal else ""
+
+
+def _draw(creature: str, logs: dict[str, list[Path]], path: Path, out: TextIO) -> None:
+    """Best objective against real swims, one colour per search (needs the viz extra)."""
+    try:
+        from aquagait.viz import plot_budgets
+    except ImportError as err:
+        print(f"note: no convergence picture ({err}; pip install aquagait[viz])", file=out)
+        return
+    print(f"wrote {plot_budgets(logs, path, title=creature)}", file=out)
 
 
 def _gaits(creature: str) -> dict:
