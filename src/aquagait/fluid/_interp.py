@@ -12,11 +12,13 @@ arguments. Their first argument, ``branching``, picks how coordinates are
 clamped, by its type (Numba compiles one version per type and drops the
 other branch): None, branch-free (``min``/``max`` and signed conversions),
 or True, the branches and unsigned conversions of the code before issue 10,
-kept as a reference for the benchmark. Both give the same numbers bit for
-bit; the branch-free traces are 1.6x faster (fish, 64x32x32, one core),
-the branches and unsigned conversions are the cost. What else makes them
-fast (each measured): the first RK2 stage, the
-carrier at a sample, is a mean of 1 to 4 face values rather than a general
+kept as a reference for the benchmark. Both give the same numbers to
+round-off (the two compiled versions of a kernel may fuse different
+multiplies and adds: a last bit or two); the branch-free traces are 1.6x
+faster (fish, 64x32x32, one core), the branches and unsigned conversions are
+the cost. What else makes them fast (each measured): still water traced by
+one Euler step (``aquagait.fluid.advection``, "Still water"); the first RK2
+stage, the carrier at a sample, is a mean of 1 to 4 face values rather than a general
 interpolation, and the forward and backward traces of BFECC share it; flat
 arrays are indexed with unsigned integers, which spares Numba's negative-index
 wraparound on every load. Interpolation is written ``a + f (b - a)`` so that a
@@ -39,7 +41,7 @@ def _base(x, n, branching):
     Branch-free when ``branching`` is None: clamp, then a signed conversion
     (one instruction each way, where the unsigned ones are sequences), the
     node capped at ``n-2`` so that the last sample gets weight exactly 1.
-    The same numbers as the branching form, bit for bit, 1.6x faster traces.
+    The same weights as the branching form, 1.6x faster traces.
     """
     if branching is None:
         x = min(max(x, 0.0), float(n - 1))
@@ -180,13 +182,16 @@ def _velocity_3d(u, v, w, nx, ny, nz, x, y, z, branching):
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def departure_2d(branching, u2, v2, ox, oy, dt_h, px, py, qx, qy):
+def departure_2d(branching, u2, v2, ox, oy, dt_h, still, px, py, qx, qy):
     """RK2 (midpoint) back-trace from every sample of a 2D field, over ``dt`` and ``-dt``.
 
     Args:
         u2, v2: carrier face velocities, shapes ``(nx+1, ny)``, ``(nx, ny+1)`` [m/s].
         ox, oy: the field's sample offsets in cells (0 on its face axis, 0.5 otherwise).
         dt_h: time step over cell size, ``dt / h`` [s/m].
+        still: where the carrier at a sample moves it less than this many cells
+            along every axis, the trace is a single Euler step (the carrier at
+            the sample, no interpolation); 0 traces every sample at RK2.
         px, py: out, field-shaped: departure points over ``dt``, clamped field coordinates.
         qx, qy: out, the same over ``-dt`` (where fluid goes), or ``None`` to skip.
     """
@@ -200,17 +205,21 @@ def departure_2d(branching, u2, v2, ox, oy, dt_h, px, py, qx, qy):
         for j in range(my):
             y = j + oy
             ux, uy = _at_sample_2d(u2, v2, i, j, face)
-            vx, vy = _velocity_2d(u, v, nx, ny, x - s * ux, y - s * uy, branching)
+            moving = max(abs(ux), abs(uy)) * dt_h >= still  # else: one Euler step
+            vx, vy = ux, uy
+            if moving:
+                vx, vy = _velocity_2d(u, v, nx, ny, x - s * ux, y - s * uy, branching)
             px[i, j] = _clamp(x - dt_h * vx - ox, mx, branching)
             py[i, j] = _clamp(y - dt_h * vy - oy, my, branching)
             if qx is not None:
-                vx, vy = _velocity_2d(u, v, nx, ny, x + s * ux, y + s * uy, branching)
+                if moving:
+                    vx, vy = _velocity_2d(u, v, nx, ny, x + s * ux, y + s * uy, branching)
                 qx[i, j] = _clamp(x + dt_h * vx - ox, mx, branching)
                 qy[i, j] = _clamp(y + dt_h * vy - oy, my, branching)
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def departure_3d(branching, u3, v3, w3, ox, oy, oz, dt_h, px, py, pz, qx, qy, qz):
+def departure_3d(branching, u3, v3, w3, ox, oy, oz, dt_h, still, px, py, pz, qx, qy, qz):
     """RK2 (midpoint) back-trace from every sample of a 3D field; see ``departure_2d``."""
     nx, ny, nz = v3.shape[0], u3.shape[1], u3.shape[2]
     u, v, w = u3.ravel(), v3.ravel(), w3.ravel()
@@ -224,16 +233,20 @@ def departure_3d(branching, u3, v3, w3, ox, oy, oz, dt_h, px, py, pz, qx, qy, qz
             for k in range(mz):
                 z = k + oz
                 ux, uy, uz = _at_sample_3d(u3, v3, w3, i, j, k, face)
-                vx, vy, vz = _velocity_3d(
-                    u, v, w, nx, ny, nz, x - s * ux, y - s * uy, z - s * uz, branching
-                )
+                moving = max(max(abs(ux), abs(uy)), abs(uz)) * dt_h >= still
+                vx, vy, vz = ux, uy, uz
+                if moving:
+                    vx, vy, vz = _velocity_3d(
+                        u, v, w, nx, ny, nz, x - s * ux, y - s * uy, z - s * uz, branching
+                    )
                 px[i, j, k] = _clamp(x - dt_h * vx - ox, mx, branching)
                 py[i, j, k] = _clamp(y - dt_h * vy - oy, my, branching)
                 pz[i, j, k] = _clamp(z - dt_h * vz - oz, mz, branching)
                 if qx is not None:
-                    vx, vy, vz = _velocity_3d(
-                        u, v, w, nx, ny, nz, x + s * ux, y + s * uy, z + s * uz, branching
-                    )
+                    if moving:
+                        vx, vy, vz = _velocity_3d(
+                            u, v, w, nx, ny, nz, x + s * ux, y + s * uy, z + s * uz, branching
+                        )
                     qx[i, j, k] = _clamp(x + dt_h * vx - ox, mx, branching)
                     qy[i, j, k] = _clamp(y + dt_h * vy - oy, my, branching)
                     qz[i, j, k] = _clamp(z + dt_h * vz - oz, mz, branching)
