@@ -50,7 +50,7 @@ def bfecc_passes(grid, velocity, dtype, coordinates):
         phi = velocity[axis]
         calls = {
             "departure": partial(_interp.departure_3d, None, *velocity, *offsets,
-                                 DT / grid.cell_size, STILL, *points),
+                                 DT / grid.cell_size, STILL, *points, np.empty(shape, bool)),
             "gather": partial(_interp.gather_3d, None, phi, *points[:3], phi1),
             "compensate": partial(_interp.compensate_3d, None, phi, phi1, *points[3:], tilde),
             "limited gather": partial(_interp.limited_gather_3d, None, tilde, phi, *points[:3],

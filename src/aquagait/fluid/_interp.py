@@ -182,50 +182,63 @@ def _velocity_3d(u, v, w, nx, ny, nz, x, y, z, branching):
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def departure_2d(branching, u2, v2, ox, oy, dt_h, still, px, py, qx, qy):
+def departure_2d(branching, u2, v2, ox, oy, dt_h, still, px, py, qx, qy, moving):
     """RK2 (midpoint) back-trace from every sample of a 2D field, over ``dt`` and ``-dt``.
+
+    Two passes: every sample by one Euler step, the carrier at the sample (no
+    interpolation, so the loop vectorizes), then the samples the carrier moves
+    ``still`` cells or more again, by the midpoint rule.
 
     Args:
         u2, v2: carrier face velocities, shapes ``(nx+1, ny)``, ``(nx, ny+1)`` [m/s].
         ox, oy: the field's sample offsets in cells (0 on its face axis, 0.5 otherwise).
         dt_h: time step over cell size, ``dt / h`` [s/m].
         still: where the carrier at a sample moves it less than this many cells
-            along every axis, the trace is a single Euler step (the carrier at
-            the sample, no interpolation); 0 traces every sample at RK2.
+            along every axis, the trace stays the single Euler step; 0 traces
+            every sample by the midpoint rule.
         px, py: out, field-shaped: departure points over ``dt``, clamped field coordinates.
         qx, qy: out, the same over ``-dt`` (where fluid goes), or ``None`` to skip.
+        moving: scratch, field-shaped booleans: the samples traced by the midpoint rule.
     """
     nx, ny = v2.shape[0], u2.shape[1]
     u, v = u2.ravel(), v2.ravel()
     mx, my = px.shape
     face = 0 if ox == 0.0 else 1 if oy == 0.0 else -1
-    s = 0.5 * dt_h
     for i in range(mx):
         x = i + ox
         for j in range(my):
             y = j + oy
             ux, uy = _at_sample_2d(u2, v2, i, j, face)
-            moving = max(abs(ux), abs(uy)) * dt_h >= still  # else: one Euler step
-            vx, vy = ux, uy
-            if moving:
-                vx, vy = _velocity_2d(u, v, nx, ny, x - s * ux, y - s * uy, branching)
+            moving[i, j] = max(abs(ux), abs(uy)) * dt_h >= still
+            px[i, j] = _clamp(x - dt_h * ux - ox, mx, branching)
+            py[i, j] = _clamp(y - dt_h * uy - oy, my, branching)
+            if qx is not None:
+                qx[i, j] = _clamp(x + dt_h * ux - ox, mx, branching)
+                qy[i, j] = _clamp(y + dt_h * uy - oy, my, branching)
+    s = 0.5 * dt_h
+    for i in range(mx):
+        x = i + ox
+        for j in range(my):
+            if not moving[i, j]:
+                continue
+            y = j + oy
+            ux, uy = _at_sample_2d(u2, v2, i, j, face)
+            vx, vy = _velocity_2d(u, v, nx, ny, x - s * ux, y - s * uy, branching)
             px[i, j] = _clamp(x - dt_h * vx - ox, mx, branching)
             py[i, j] = _clamp(y - dt_h * vy - oy, my, branching)
             if qx is not None:
-                if moving:
-                    vx, vy = _velocity_2d(u, v, nx, ny, x + s * ux, y + s * uy, branching)
+                vx, vy = _velocity_2d(u, v, nx, ny, x + s * ux, y + s * uy, branching)
                 qx[i, j] = _clamp(x + dt_h * vx - ox, mx, branching)
                 qy[i, j] = _clamp(y + dt_h * vy - oy, my, branching)
 
 
 @njit(cache=True, fastmath=_FAST, nogil=True)
-def departure_3d(branching, u3, v3, w3, ox, oy, oz, dt_h, still, px, py, pz, qx, qy, qz):
+def departure_3d(branching, u3, v3, w3, ox, oy, oz, dt_h, still, px, py, pz, qx, qy, qz, moving):
     """RK2 (midpoint) back-trace from every sample of a 3D field; see ``departure_2d``."""
     nx, ny, nz = v3.shape[0], u3.shape[1], u3.shape[2]
     u, v, w = u3.ravel(), v3.ravel(), w3.ravel()
     mx, my, mz = px.shape
     face = 0 if ox == 0.0 else 1 if oy == 0.0 else 2 if oz == 0.0 else -1
-    s = 0.5 * dt_h
     for i in range(mx):
         x = i + ox
         for j in range(my):
@@ -233,20 +246,34 @@ def departure_3d(branching, u3, v3, w3, ox, oy, oz, dt_h, still, px, py, pz, qx,
             for k in range(mz):
                 z = k + oz
                 ux, uy, uz = _at_sample_3d(u3, v3, w3, i, j, k, face)
-                moving = max(max(abs(ux), abs(uy)), abs(uz)) * dt_h >= still
-                vx, vy, vz = ux, uy, uz
-                if moving:
-                    vx, vy, vz = _velocity_3d(
-                        u, v, w, nx, ny, nz, x - s * ux, y - s * uy, z - s * uz, branching
-                    )
+                moving[i, j, k] = max(max(abs(ux), abs(uy)), abs(uz)) * dt_h >= still
+                px[i, j, k] = _clamp(x - dt_h * ux - ox, mx, branching)
+                py[i, j, k] = _clamp(y - dt_h * uy - oy, my, branching)
+                pz[i, j, k] = _clamp(z - dt_h * uz - oz, mz, branching)
+                if qx is not None:
+                    qx[i, j, k] = _clamp(x + dt_h * ux - ox, mx, branching)
+                    qy[i, j, k] = _clamp(y + dt_h * uy - oy, my, branching)
+                    qz[i, j, k] = _clamp(z + dt_h * uz - oz, mz, branching)
+    s = 0.5 * dt_h
+    for i in range(mx):
+        x = i + ox
+        for j in range(my):
+            y = j + oy
+            for k in range(mz):
+                if not moving[i, j, k]:
+                    continue
+                z = k + oz
+                ux, uy, uz = _at_sample_3d(u3, v3, w3, i, j, k, face)
+                vx, vy, vz = _velocity_3d(
+                    u, v, w, nx, ny, nz, x - s * ux, y - s * uy, z - s * uz, branching
+                )
                 px[i, j, k] = _clamp(x - dt_h * vx - ox, mx, branching)
                 py[i, j, k] = _clamp(y - dt_h * vy - oy, my, branching)
                 pz[i, j, k] = _clamp(z - dt_h * vz - oz, mz, branching)
                 if qx is not None:
-                    if moving:
-                        vx, vy, vz = _velocity_3d(
-                            u, v, w, nx, ny, nz, x + s * ux, y + s * uy, z + s * uz, branching
-                        )
+                    vx, vy, vz = _velocity_3d(
+                        u, v, w, nx, ny, nz, x + s * ux, y + s * uy, z + s * uz, branching
+                    )
                     qx[i, j, k] = _clamp(x + dt_h * vx - ox, mx, branching)
                     qy[i, j, k] = _clamp(y + dt_h * vy - oy, my, branching)
                     qz[i, j, k] = _clamp(z + dt_h * vz - oz, mz, branching)
