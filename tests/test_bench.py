@@ -24,8 +24,8 @@ def test_bench_optimize_runs_the_default_search_per_seed_beside_the_papers_budge
         for search in ("default", "surrogate")]  # fmt: skip
     text = out.getvalue()
     assert "optimize eel2d --start hand-set --seed S [--surrogate], 2 workers" in text
-    plain, modelled = ([row for row in rows if row["search"] == s] for s in ("default",
-                                                                            "surrogate"))  # fmt: skip
+    plain, modelled = ([row for row in rows if row["search"] == s]
+                       for s in ("default", "surrogate"))  # fmt: skip
     minutes = sorted(row["minutes"] for row in plain)
     default, surrogate, picture = text.strip().splitlines()[-3:]
     assert default.startswith("default search: median 6 samples to its stop")

@@ -142,7 +142,12 @@ def test_the_progress_bar_writes_a_line_per_tenth_into_a_log():
     [
         (
             ["bench", "swim", "--creature", "fish"],
-            "--creature and --seeds are for 'optimize', not 'swim'",
+            "--creature is for 'optimize' and for 'swim' with --profile or --compare-*",
+        ),
+        (["bench", "swim", "--seeds", "2"], "--seeds is for 'optimize', not 'swim'"),
+        (
+            ["bench", "swim", "--compare-still", "--creature", "nessie"],
+            "unknown creature 'nessie'",
         ),
         (["bench", "fluid", "--compare-boundary"], "--compare-* are for 'swim', not 'fluid'"),
         (["bench", "optimize", "--creature", "nessie"], "unknown creature 'nessie'"),

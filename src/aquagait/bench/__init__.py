@@ -16,6 +16,7 @@ def run_benchmark(
     out: TextIO = sys.stdout,
     profile: bool = False,
     compare_advection: bool = False,
+    compare_still: bool = False,
     compare_precision: bool = False,
     compare_boundary: bool = False,
     compare_start: bool = False,
@@ -32,6 +33,8 @@ def run_benchmark(
         profile: swim only: time per phase of the coupled step (``swim.profile``).
         compare_advection: swim only: each advection scheme beside the other
             (``swim.compare_advection``).
+        compare_still: swim only: every departure point traced at second order
+            beside still water traced by one Euler step (``swim.compare_still``).
         compare_precision: swim only: float64 beside float32 face velocities
             (``swim.compare_precision``).
         compare_boundary: swim only: the staircase beside sub-cell boundaries
@@ -40,8 +43,9 @@ def run_benchmark(
             today's (``swim.compare_start``).
         compare_thin: swim only: the step before thin parts were closed beside
             today's (``swim.compare_thin``).
-        creature: optimize only: the creature whose optimization is timed
-            (default eel2d).
+        creature: optimize: the creature whose optimization is timed (default
+            eel2d); swim's profile and comparisons: that creature alone (default:
+            every creature of the paper's Table 1).
         seeds: optimize only: default searches run whole, one per seed (default 3;
             0 times the samples alone).
     Returns:
@@ -52,22 +56,32 @@ def run_benchmark(
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
     chosen = {"profile": profile, "compare_advection": compare_advection,
-              "compare_precision": compare_precision,
+              "compare_still": compare_still, "compare_precision": compare_precision,
               "compare_boundary": compare_boundary, "compare_start": compare_start,
               "compare_thin": compare_thin}  # fmt: skip
     if any(chosen.values()) and what != "swim":
         raise ValueError(f"--profile and --compare-* are for 'swim', not {what!r}")
-    if (creature is not None or seeds is not None) and what != "optimize":
-        raise ValueError(f"--creature and --seeds are for 'optimize', not {what!r}")
+    if seeds is not None and what != "optimize":
+        raise ValueError(f"--seeds is for 'optimize', not {what!r}")
+    if creature is not None and what != "optimize" and not any(chosen.values()):
+        raise ValueError(
+            f"--creature is for 'optimize' and for 'swim' with --profile or "
+            f"--compare-*, not {what!r} alone"
+        )
     if seeds is not None and seeds < 0:
         raise ValueError(f"seeds must be at least 0, got {seeds}")
     from aquagait.bench import env, fluid, optimize, render, swim
 
+    if creature is not None:
+        from aquagait.creatures import get
+
+        get(creature)  # an unknown name is refused before anything runs
     if what != "optimize":  # the optimize benchmark measures two worker processes
         _pin_to_one_core(out)
     if any(chosen.values()):
+        creatures = (creature,) if creature else swim.TABLE_1
         return [row for name, on in chosen.items() if on
-                for row in getattr(swim, name)(repeats, out)]  # fmt: skip
+                for row in getattr(swim, name)(repeats, out, creatures)]  # fmt: skip
     if what == "optimize":
         return optimize.run(repeats, out, creature or "eel2d", 3 if seeds is None else seeds)
     modules = {"fluid": fluid, "swim": swim, "optimize": optimize, "render": render, "env": env}

@@ -10,8 +10,10 @@ has. The target is 30x faster than the paper.
 
 ``--profile`` splits the coupled step into its phases (``profile``), and
 ``--compare-advection`` times the same frames with each advection scheme
-beside the other (``compare_advection``), ``--compare-precision`` with
-float64 and float32 face velocities (``compare_precision``).
+beside the other (``compare_advection``), ``--compare-still`` with every
+departure point traced at second order and with still water traced by one
+Euler step (``compare_still``), ``--compare-precision`` with float64 and
+float32 face velocities (``compare_precision``).
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ PAPER_SECONDS_PER_FRAME = {
     "manta": 10.92, "turtle3d": 11.29, "frog": 12.79, "alien": 10.75,
 }  # fmt: skip
 """Table 1 of the paper: seconds per frame on one 2.26 GHz core, at the same grids."""
+TABLE_1 = tuple(PAPER_SECONDS_PER_FRAME)
+"""The creatures timed by default: every one of the paper's Table 1."""
 TARGET_RATIO = 30.0
 WARMUP_FRAMES = 15
 
@@ -76,7 +80,7 @@ def run(repeats: int, out: TextIO) -> list[dict]:
     return rows
 
 
-def profile(repeats: int, out: TextIO, creatures=tuple(PAPER_SECONDS_PER_FRAME)) -> list[dict]:
+def profile(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict]:
     """Time each phase of the coupled step, per creature; print ms per step and share.
 
     The step itself carries no timing code: while the frames run, the phase
@@ -185,31 +189,55 @@ def _grid(creature) -> str:
     return "x".join(map(str, creature.resolution))
 
 
-def compare_advection(repeats: int, out: TextIO) -> list[dict]:
+def compare_advection(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict]:
     """The coupled step with the previous and the current BFECC, in one run.
 
     Each creature swims the same frames once with each scheme
     (``EulerFluid(advect=...)``), frame about (``_interleaved_swims``);
     printed: ms per step of the advection phase and of the whole step, the
-    schemes side by side with their ratio, and whether the two swims end at
-    the same body position bit for bit.
+    schemes side by side with their ratio, and how far apart the two swims'
+    roots end [m] (the same to round-off: the kernels' fused multiply-adds).
 
     Returns:
         one dict per creature with both schemes' figures.
     """
-    import numpy as np
 
     from aquagait.fluid.advection import bfecc, bfecc_previous
 
-    def same(old, new):
-        same_qpos = bool(np.array_equal(old["qpos"], new["qpos"]))
-        return {"same_qpos": same_qpos}, f"{'same qpos':>14}{'yes' if same_qpos else 'no':>20}"
-
     fluids = {"previous": dict(advect=bfecc_previous), "bfecc": dict(advect=bfecc)}
-    return _two_fluids(out, repeats, fluids, ADVECT_AND_STEP, extra=same)
+    return _two_fluids(out, repeats, creatures, fluids, ADVECT_AND_STEP, extra=_roots_apart)
 
 
-def compare_precision(repeats: int, out: TextIO) -> list[dict]:
+def compare_still(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict]:
+    """The coupled step with every departure point traced at second order, and with
+    still water traced by one Euler step (today's), in one run.
+
+    ``bfecc(still=0)`` against ``bfecc`` (``aquagait.fluid.advection``, "Still
+    water"); printed as ``compare_advection``: ms per step of the advection and
+    of the whole step with their ratio, and how far apart the two swims' roots
+    end [m].
+
+    Returns:
+        one dict per creature with both traces' figures.
+    """
+    from functools import partial
+
+    from aquagait.fluid.advection import bfecc
+
+    fluids = {"rk2": dict(advect=partial(bfecc, still=0.0)), "still": {}}
+    return _two_fluids(out, repeats, creatures, fluids, ADVECT_AND_STEP, extra=_roots_apart)
+
+
+def _roots_apart(first: dict, second: dict) -> tuple[dict, str]:
+    """How far apart two swims' roots end [m]: a row's fields and its line."""
+    import numpy as np
+
+    dim = 2 if len(first["grid"].split("x")) == 2 else 3
+    metres = float(np.linalg.norm(first["qpos"][:dim] - second["qpos"][:dim]))
+    return {"apart": metres}, f"{'roots apart':>14}{metres:>20.2e} m"
+
+
+def compare_precision(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict]:
     """The coupled step with float64 and float32 face velocities, in one run.
 
     Each creature swims the same frames once with each precision
@@ -223,16 +251,11 @@ def compare_precision(repeats: int, out: TextIO) -> list[dict]:
     """
     import numpy as np
 
-    def apart(double, single):
-        dim = 2 if len(double["grid"].split("x")) == 2 else 3
-        metres = float(np.linalg.norm(double["qpos"][:dim] - single["qpos"][:dim]))
-        return {"apart": metres}, f"{'roots apart':>14}{metres:>20.2e} m"
-
     fluids = {"float64": dict(dtype=np.float64), "float32": dict(dtype=np.float32)}
-    return _two_fluids(out, repeats, fluids, ADVECT_AND_STEP, extra=apart)
+    return _two_fluids(out, repeats, creatures, fluids, ADVECT_AND_STEP, extra=_roots_apart)
 
 
-def compare_boundary(repeats: int, out: TextIO) -> list[dict]:
+def compare_boundary(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict]:
     """The coupled step on the staircase and with sub-cell boundaries, in one run.
 
     Each creature swims the same frames once with each boundary
@@ -249,10 +272,10 @@ def compare_boundary(repeats: int, out: TextIO) -> list[dict]:
     fluids = {"staircase": dict(boundary=voxelize), "subcell": dict(boundary=voxelize_subcell)}
     figures = (("voxelize ms", "voxelize"), ("solve ms", "solve"), ("step ms", "step"),
                ("CG its", "iterations"))  # fmt: skip
-    return _two_fluids(out, repeats, fluids, figures, ratio="cost", cost=True)
+    return _two_fluids(out, repeats, creatures, fluids, figures, ratio="cost", cost=True)
 
 
-def compare_thin(repeats: int, out: TextIO) -> list[dict]:
+def compare_thin(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict]:
     """The coupled step before and after thin parts were closed, in one run.
 
     Before: water fractions alone, faces under half water held to the body once
@@ -266,15 +289,15 @@ def compare_thin(repeats: int, out: TextIO) -> list[dict]:
     fluids = {"fractions": dict(boundary=voxelize_fractions, mostly_water=0.5), "closed": {}}
     figures = (("voxelize ms", "voxelize"), ("solve ms", "solve"), ("step ms", "step"),
                ("CG its", "iterations"))  # fmt: skip
-    return _two_fluids(out, repeats, fluids, figures, ratio="cost", cost=True)
+    return _two_fluids(out, repeats, creatures, fluids, figures, ratio="cost", cost=True)
 
 
 ADVECT_AND_STEP = (("advect ms", "advect"), ("step ms", "step"))
 
 
-def _two_fluids(out: TextIO, repeats: int, fluids: dict, figures, extra=None, ratio="ratio",
-                cost=False) -> list[dict]:  # fmt: skip
-    """Every library creature swum with each of two Euler fluids, frame about, in one run.
+def _two_fluids(out: TextIO, repeats: int, creatures, fluids: dict, figures, extra=None,
+                ratio="ratio", cost=False) -> list[dict]:  # fmt: skip
+    """Each of ``creatures`` swum with each of two Euler fluids, frame about, in one run.
 
     Args:
         fluids: two labels, each with its ``EulerFluid`` keyword arguments.
@@ -290,7 +313,7 @@ def _two_fluids(out: TextIO, repeats: int, fluids: dict, figures, extra=None, ra
     (a, b) = fluids
     print(f"{'creature':<10}{'grid':>11}{'':>14}{a:>10}{b:>10}{ratio:>8}", file=out)
     rows = []
-    for name in PAPER_SECONDS_PER_FRAME:
+    for name in creatures:
         first, second = _interleaved_swims(name, fluids, repeats).values()
         fields, line = extra(first, second) if extra else ({}, None)
         rows.append(dict(creature=name, grid=first["grid"], **{a: first, b: second}, **fields))
@@ -308,7 +331,7 @@ def _side_by_side(out: TextIO, name: str, grid: str, label: str, a: float, b: fl
     print(f"{name:<10}{grid:>11}{label:>14}{a:>10.2f}{b:>10.2f}{ratio:>7.2f}x", file=out)
 
 
-def compare_start(repeats: int, out: TextIO) -> list[dict]:
+def compare_start(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict]:
     """The coupled step as it was when the 3D-speed work began, beside today's.
 
     Three fluids swim the same frames, frame about: the start (the previous
@@ -331,7 +354,7 @@ def compare_start(repeats: int, out: TextIO) -> list[dict]:
     print(f"{'creature':<10}{'grid':>11}{'':>14}" + "".join(f"{k:>11}" for k in fluids)
           + f"{'speed-up':>18}", file=out)  # fmt: skip
     rows = []
-    for name in PAPER_SECONDS_PER_FRAME:
+    for name in creatures:
         figures = _interleaved_swims(name, fluids, repeats)
         grid = figures["start"]["grid"]
         rows.append(dict(creature=name, grid=grid, **figures))

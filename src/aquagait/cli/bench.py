@@ -17,6 +17,11 @@ def add_parser(commands) -> None:
         "--compare-advection", action="store_true", help="swim: old and new advection, one run"
     )
     bench.add_argument(
+        "--compare-still", action="store_true",
+        help="swim: every departure point at second order beside still water traced by one "
+        "Euler step (today's), one run",
+    )  # fmt: skip
+    bench.add_argument(
         "--compare-precision", action="store_true",
         help="swim: float64 and float32 face velocities, one run",
     )  # fmt: skip
@@ -36,8 +41,10 @@ def add_parser(commands) -> None:
         help="swim: the step before thin parts were closed beside today's, one run",
     )
     bench.add_argument(
-        "--creature", metavar="NAME", help="optimize: the creature to time (default eel2d)"
-    )
+        "--creature", metavar="NAME",
+        help="optimize: the creature to time (default eel2d); swim --profile or --compare-*: "
+        "that creature alone (default: every creature of the paper's Table 1)",
+    )  # fmt: skip
     bench.add_argument("--seeds", type=int, metavar="K",
                        help="optimize: default searches run whole, seeds 1..K (default 3; 0: "
                        "time the samples only)")  # fmt: skip
@@ -50,6 +57,7 @@ def run(args) -> int:
     try:
         run_benchmark(args.what, repeats=args.repeats, out=sys.stdout, profile=args.profile,
                       compare_advection=args.compare_advection,
+                      compare_still=args.compare_still,
                       compare_precision=args.compare_precision,
                       compare_boundary=args.compare_boundary,
                       compare_start=args.compare_start,
