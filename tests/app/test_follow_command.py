@@ -88,9 +88,10 @@ def _write(tmp_path, name, text):
             r"passes 6\.\d+ m \(1\d\.\d body lengths\) from the creature's "
             r"start .* move the path by \[-",
         ),  # fmt: skip
-        ("blob", "neither a path file nor a shape; shapes: line, circle, s-curve"),
+        ("blob", "neither a path file nor a shape; shapes .*: line:length=5.0; circle:"),
+        ("circl:radius=0.6", "neither a path file nor a shape; shapes .*: line:length=5.0;"),
         ("circle:radius=big", "give parameters as key=value"),
-        ("circle:size=1", "path shape 'circle'"),
+        ("circle:radus=0.6", "path shape 'circle' takes radius, turns, not radus"),
         ("missing.csv", "does not exist"),
     ],
 )

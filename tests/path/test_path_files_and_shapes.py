@@ -79,8 +79,12 @@ def test_bad_files_shapes_and_far_paths(tmp_path):
     garbled.write_text("0,0\n1,a\n")
     with pytest.raises(PathError, match="not a list of points"):
         read_path(garbled, dim=2)
-    with pytest.raises(PathError, match="unknown path shape 'spiral'; shapes: line, circle"):
+    with pytest.raises(PathError, match="unknown path shape 'spiral'; shapes: line:length=5.0; "
+                       "circle:radius=1.0,turns=1.0; s-curve:length=4.0,"):  # fmt: skip
         shape("spiral")
+    with pytest.raises(PathError, match="path shape 'circle' takes radius, turns, not radus: "
+                       "circle:radius=1.0,turns=1.0"):  # fmt: skip
+        shape("circle", radus=0.6)
     with pytest.raises(PathError, match="radius must be a positive number"):
         shape("circle", radius=-1)
     with pytest.raises(PathError, match="vertical S-curve is 3D"):

@@ -16,6 +16,7 @@ in 3D ``vertical`` puts it in the x-z plane, as the paper's manta follows).
 
 from __future__ import annotations
 
+import inspect
 import json
 from dataclasses import dataclass
 from pathlib import Path as FilePath
@@ -182,13 +183,40 @@ def shape(name: str, dim: int = 2, **parameters) -> Path:
     Raises:
         PathError: an unknown shape or parameter (it lists what each shape takes).
     """
-    makers = {"line": line, "circle": circle, "s-curve": s_curve}
-    if name not in makers:
-        raise PathError(f"unknown path shape {name!r}; shapes: {', '.join(SHAPES)}, or a file")
-    try:
-        return makers[name](dim=dim, **parameters)
-    except TypeError as err:
-        raise PathError(f"path shape {name!r}: {err}") from None
+    if name not in _MAKERS:
+        raise PathError(f"unknown path shape {name!r}; shapes: {shapes_help()}, or a file")
+    known = _parameters(name)
+    unknown = [key.replace("_", "-") for key in parameters if key.replace("_", "-") not in known]
+    if unknown:
+        raise PathError(
+            f"path shape {name!r} takes {', '.join(known)}, not {', '.join(unknown)}: "
+            f"{_usage(name)} (the defaults)"
+        )
+    return _MAKERS[name](dim=dim, **parameters)
+
+
+def shapes_help() -> str:
+    """The shapes and their parameters with defaults, as a path is written on the command
+    line: ``line:length=5.0; circle:radius=1.0,turns=1.0; ...``."""
+    return "; ".join(_usage(name) for name in SHAPES)
+
+
+def _usage(name: str) -> str:
+    """A shape as written on the command line with its defaults: ``circle:radius=1.0,...``."""
+    return f"{name}:{','.join(f'{k}={v}' for k, v in _parameters(name).items())}"
+
+
+def _parameters(name: str) -> dict[str, object]:
+    """A shape's parameters and their defaults, as written on the command line."""
+    signature = inspect.signature(_MAKERS[name])
+    return {
+        key.replace("_", "-"): str(p.default).lower() if isinstance(p.default, bool) else p.default
+        for key, p in signature.parameters.items()
+        if key != "dim"
+    }
+
+
+_MAKERS = {"line": line, "circle": circle, "s-curve": s_curve}
 
 
 def read_path(file, dim: int) -> Path:
@@ -255,10 +283,11 @@ def parse_path(path, dim: int, start=None) -> tuple[Path, str]:
         made = shape(name, dim=dim, **parameters)
         offset = np.zeros(dim) if start is None else np.asarray(start, dtype=float)
         return Path(made.points + offset), text
-    if not FilePath(text).exists() and "." not in FilePath(text).name:
+    looks_like_file = FilePath(text).suffix.lower() in (".csv", ".json", ".txt")
+    if not FilePath(text).exists() and not looks_like_file:
         raise PathError(
-            f"{text!r} is neither a path file nor a shape; shapes: {', '.join(SHAPES)} "
-            "(with parameters as NAME:key=value,...), or a CSV or JSON file of points"
+            f"{text!r} is neither a path file nor a shape; shapes (NAME:key=value,..., "
+            f"the defaults shown): {shapes_help()}; or a CSV or JSON file of points"
         )
     return read_path(text, dim), text
 
