@@ -157,3 +157,19 @@ def test_bench_options_for_another_benchmark_or_creature_are_refused(argv, messa
     assert main(argv) == 2
     out, err = capsys.readouterr()
     assert message in err and "pinned" not in out  # refused before anything ran
+
+
+@pytest.mark.parametrize(
+    "argv, dest, value",
+    [
+        (["swim", "eel2d", "--manoeuvre", "turn-left"], "maneuver", "turn-left"),
+        (["swim", "eel2d", "--maneuver", "turn-left"], "maneuver", "turn-left"),
+        (["optimize", "eel2d", "--manoeuvre", "turn-right"], "maneuver", "turn-right"),
+        (["optimize", "eel2d", "--gait", "hand-set"], "start", "hand-set"),
+        (["optimize", "eel2d", "--start", "hand-set"], "start", "hand-set"),
+    ],
+)
+def test_one_name_for_one_thing_both_spellings_and_both_gait_flags_are_taken(argv, dest, value):
+    from aquagait.cli import build_parser
+
+    assert getattr(build_parser().parse_args(argv), dest) == value

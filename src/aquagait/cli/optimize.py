@@ -58,16 +58,19 @@ def add_parser(commands) -> None:
     optimize.add_argument("--refine-top", type=int, default=2, metavar="K",
                           help="with --coarse: samples a generation swum on the "
                           "target grid")  # fmt: skip
-    optimize.add_argument("--maneuver", choices=MANEUVERS, default="straight",
-                          help="learn a manoeuvre (paper §5; 2D creatures turn, 3D ones "
-                          "also pitch): offsets freed, rotation rewarded")  # fmt: skip
+    optimize.add_argument("--maneuver", "--manoeuvre", choices=MANEUVERS, default="straight",
+                          metavar="NAME",
+                          help=f"learn a manoeuvre, one of {', '.join(MANEUVERS)} (paper §5; "
+                          "2D creatures turn, 3D ones also pitch): offsets freed, rotation "
+                          "rewarded")  # fmt: skip
     optimize.add_argument("--turn-limit", type=float, metavar="RAD",
                           help="a manoeuvre: the most rotation about its axis rewarded over "
                           f"a sample [rad] (default {TURN:.4g}, 90 degrees; "
                           "smaller, the search buys travel past it)")  # fmt: skip
-    optimize.add_argument("--start", metavar="FILE|NAME",
+    optimize.add_argument("--start", "--gait", metavar="FILE|NAME",
                           help="start the search from this gait: a gait.json or a shipped "
-                          "gait's name (default: the shipped straight gait)")  # fmt: skip
+                          "gait's name (default: the shipped straight gait); --gait, as in "
+                          "swim, is the same")  # fmt: skip
     optimize.add_argument("--step", type=float, metavar="F",
                           help="initial spread of each parameter, a fraction of its range "
                           "(default 0.25; smaller polishes the start)")  # fmt: skip

@@ -20,8 +20,9 @@ def add_parser(commands) -> None:
     swim.add_argument("name", metavar="NAME", help=NAME_HELP)
     thicken_flag(swim)
     swim.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
-    swim.add_argument("--maneuver", choices=MANEUVERS,
-                      help="swim a learned manoeuvre's shipped gait instead")  # fmt: skip
+    swim.add_argument("--maneuver", "--manoeuvre", choices=MANEUVERS, metavar="NAME",
+                      help="swim a learned manoeuvre's shipped gait instead, one of "
+                      f"{', '.join(MANEUVERS)}")  # fmt: skip
     swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
     swim.add_argument("--keep-course", action="store_true",
                       help="keep to the line ahead of the start with the creature's learned "
