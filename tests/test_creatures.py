@@ -221,12 +221,15 @@ def test_bad_creatures_are_refused():
 def test_format_table_and_the_cli_list_the_library(capsys):
     lines = format_table().splitlines()
     assert lines[0].split() == ["name", "dim", "DOFs", "optimized", "parameters", "default",
-                                "grid", "cell", "size"]  # fmt: skip
+                                "grid", "cell", "size", "gaits", "manoeuvres"]  # fmt: skip
     rows = {line.split()[0]: line.split()[1:] for line in lines[1:]}
     assert list(rows) == names()
-    assert rows["accordion2d"] == ["2D", "10", "1", "192x96", "4", "mm"]
-    assert rows["eel2d"] == ["2D", "4", "8", "128x64", "10", "mm"]
-    assert rows["fish"] == ["3D", "3", "6", "64x32x32", "5", "mm"]
+    assert rows["accordion2d"] == ["2D", "10", "1", "192x96", "4", "mm", "straight", "-"]
+    assert rows["eel2d"] == ["2D", "4", "8", "128x64", "10", "mm", "straight,hand-set,efficient",
+                             "turn-left,turn-right"]  # fmt: skip
+    assert rows["fish"] == ["3D", "3", "6", "64x32x32", "5", "mm", "straight,hand-set,efficient",
+                            "-"]  # fmt: skip
+    assert rows["manta"][-1] == "pitch-up,pitch-down"
     assert cli.main(["creatures"]) == 0
     assert capsys.readouterr().out.strip() == format_table()
 

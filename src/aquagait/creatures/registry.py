@@ -71,8 +71,10 @@ def get(name: str) -> Creature:
 
 
 def format_table() -> str:
-    """The library as a text table: name, dim, DOFs, optimized parameters, grid, cell size."""
-    header = ("name", "dim", "DOFs", "optimized parameters", "default grid", "cell size")
+    """The library as a text table: name, dim, DOFs, optimized parameters, grid, cell size,
+    the shipped gaits (``swim NAME --gait G``) and the learned manoeuvres (``--maneuver M``)."""
+    header = ("name", "dim", "DOFs", "optimized parameters", "default grid", "cell size",
+              "gaits", "manoeuvres")  # fmt: skip
     rows = [header]
     for name in names():
         c = get(name)
@@ -84,6 +86,8 @@ def format_table() -> str:
                 str(c.gait.size),
                 "x".join(str(n) for n in c.resolution),
                 f"{c.cell_size * 1000:g} mm",
+                ",".join(g for g in c.gaits if g not in c.maneuvers or g == "straight"),
+                ",".join(c.maneuvers[1:]) or "-",  # the first is straight, always learned
             )
         )
     widths = [max(len(r[i]) for r in rows) for i in range(len(header))]
