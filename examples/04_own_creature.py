@@ -9,7 +9,7 @@ same table; the same file works on the command line:
 
     aquagait check runs/own/swimmer.xml
     aquagait optimize runs/own/swimmer.xml --generations 10
-    aquagait swim runs/own/swimmer.xml --gait runs/swimmer/gait.json
+    aquagait swim runs/own/swimmer.xml --gait runs/swimmer-optimize/gait.json
 
 Run:  python examples/04_own_creature.py [--generations 6] [--out runs/own] [--steps N]
 (``--steps N``: one generation of two samples, each swimming N frames, and a

@@ -173,3 +173,22 @@ def test_one_name_for_one_thing_both_spellings_and_both_gait_flags_are_taken(arg
     from aquagait.cli import build_parser
 
     assert getattr(build_parser().parse_args(argv), dest) == value
+
+
+def test_swim_and_optimize_write_to_their_own_default_directories(tmp_path, monkeypatch):
+    """A search writes runs/NAME-optimize, so that a later swim (runs/NAME) leaves its
+    gait.json and checkpoint alone; a manoeuvre's search has its own too."""
+    from pathlib import Path
+
+    from aquagait.cli.optimize import default_directory
+
+    monkeypatch.chdir(tmp_path)
+    small = ["--resolution", "48", "28", "--cell-size", "0.025", "--no-video"]
+    search = ["optimize", "eel2d", "--generations", "1", "--popsize", "2", "--workers", "1"]
+    assert main([*search, *small]) == 0
+    gait = (tmp_path / "runs/eel2d-optimize/gait.json").read_text()
+    assert (tmp_path / "runs/eel2d-optimize/checkpoint.pkl").is_file()
+    assert main(["swim", "eel2d", "--seconds", "0.1", *small]) == 0
+    assert (tmp_path / "runs/eel2d/trajectory.npz").is_file()
+    assert (tmp_path / "runs/eel2d-optimize/gait.json").read_text() == gait
+    assert default_directory("eel2d", "turn-left") == Path("runs/eel2d-turn-left-optimize")

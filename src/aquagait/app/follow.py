@@ -414,7 +414,8 @@ def _check_learned(creature: Creature, gaits: dict, path: Path, start, eps: floa
     if missing:
         have = ", ".join(n for n in MANEUVERS if n in gaits)
         learn = "; ".join(
-            f"aquagait optimize {creature.name} --maneuver {m} --out runs/{creature.name}-{m}"
+            f"aquagait optimize {creature.name} --maneuver {m} "
+            f"--out runs/{creature.name}-{m}-optimize"
             for m in missing
         )
         raise FollowSetupError(

@@ -1,6 +1,6 @@
 """Swim a library creature with a gait and keep the run on disk (DESIGN.md §1 step 3, §5).
 
-    setup = prepare_swim("eel2d", gait="runs/eel2d/gait.json", seconds=2.0)
+    setup = prepare_swim("eel2d", gait="runs/eel2d-optimize/gait.json", seconds=2.0)
     run = run_swim(setup, progress=lambda done, total: ...)
     write_swim(run, "runs/eel2d", video=True)   # config.json, gait.json, trajectory.npz,
                                                  # metrics.json, swim.mp4

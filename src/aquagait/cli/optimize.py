@@ -51,7 +51,9 @@ def add_parser(commands) -> None:
     optimize.add_argument("--resolution", type=int, nargs="+", metavar="N",
                           help="cells per axis: NX NY (2D) or NX NY NZ (3D)")  # fmt: skip
     optimize.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
-    optimize.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME)")
+    optimize.add_argument("--out", metavar="DIR",
+                          help="run directory (default: runs/NAME-optimize, runs/NAME-MANEUVER-"
+                          "optimize for a manoeuvre: never a swim's runs/NAME)")  # fmt: skip
     optimize.add_argument("--coarse", type=float, metavar="FACTOR",
                           help="rank samples on a grid FACTOR times coarser and swim each "
                           "generation's best again on the target grid")  # fmt: skip
@@ -140,13 +142,19 @@ def optimization_setup(args):
     )
 
 
+def default_directory(name: str, maneuver: str) -> Path:
+    """``runs/NAME-optimize`` (``runs/NAME-MANEUVER-optimize``): a search's own, so that a
+    later ``swim NAME`` (``runs/NAME``) does not overwrite its gait.json."""
+    return Path("runs") / "-".join([name, *([] if maneuver == "straight" else [maneuver]),
+                                    "optimize"])  # fmt: skip
+
+
 def run(args) -> int:
     from aquagait.app import SetupError, output_directory
 
     try:
         setup = optimization_setup(args)
-        label = setup.creature.name + ("" if args.maneuver == "straight" else f"-{args.maneuver}")
-        out = output_directory(args.out or Path("runs") / label)
+        out = output_directory(args.out or default_directory(setup.creature.name, args.maneuver))
     except SetupError as err:
         return fail("optimize", err, status=2)
     for note in setup.notes:

@@ -159,7 +159,7 @@ class Creature:
             raise UnlearnedManeuver(
                 f"{self.name} has not learned {maneuver!r}; it has learned "
                 f"{', '.join(self.maneuvers)}. Learn it with: aquagait optimize {self.name} "
-                f"--maneuver {maneuver} --out runs/{self.name}-{maneuver}"
+                f"--maneuver {maneuver} (into runs/{self.name}-{maneuver}-optimize)"
             )
         return self.gaits[maneuver].params
 
