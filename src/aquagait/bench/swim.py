@@ -201,7 +201,6 @@ def compare_advection(repeats: int, out: TextIO, creatures=TABLE_1) -> list[dict
     Returns:
         one dict per creature with both schemes' figures.
     """
-
     from aquagait.fluid.advection import bfecc, bfecc_previous
 
     fluids = {"previous": dict(advect=bfecc_previous), "bfecc": dict(advect=bfecc)}
