@@ -192,3 +192,20 @@ def test_swim_and_optimize_write_to_their_own_default_directories(tmp_path, monk
     assert (tmp_path / "runs/eel2d/trajectory.npz").is_file()
     assert (tmp_path / "runs/eel2d-optimize/gait.json").read_text() == gait
     assert default_directory("eel2d", "turn-left") == Path("runs/eel2d-turn-left-optimize")
+
+
+def test_every_flag_has_help_and_says_its_default():
+    """``--help`` is the reference (the site's CLI page is made from the same parser): every
+    option and argument has help text, and an option with a default says it."""
+    import argparse
+
+    from aquagait.cli import build_parser
+
+    commands = next(a for a in build_parser()._actions if a.dest == "command").choices
+    for name, command in commands.items():
+        for action in command._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            assert action.help, (name, action.dest)
+            if action.default not in (None, False) and action.option_strings:
+                assert "default" in action.help, (name, action.option_strings)

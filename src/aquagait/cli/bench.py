@@ -11,7 +11,8 @@ from aquagait.cli.errors import fail
 def add_parser(commands) -> None:
     bench = commands.add_parser("bench", help="measure speed against in-run baselines")
     bench.add_argument("what", choices=BENCHMARKS, help="which benchmark to run")
-    bench.add_argument("--repeats", type=int, default=10, help="timed repetitions per case")
+    bench.add_argument("--repeats", type=int, default=10,
+                       help="timed repetitions per case (default 10)")  # fmt: skip
     bench.add_argument("--profile", action="store_true", help="swim: time per phase of a step")
     bench.add_argument(
         "--compare-advection", action="store_true", help="swim: old and new advection, one run"

@@ -24,7 +24,8 @@ def add_parser(commands) -> None:
              "and compare the distances (minutes; the frog's, most of an hour)",
     )  # fmt: skip
     check.add_argument("--seconds", type=float, default=2.0,
-                       help="with --convergence: seconds swum in each case")  # fmt: skip
+                       help="with --convergence: seconds swum in each case "
+                       "(default 2)")  # fmt: skip
     thicken_flag(check)
     check.set_defaults(run=run)
 

@@ -24,14 +24,15 @@ def add_parser(commands) -> None:
     compare.add_argument("name", metavar="NAME", help=NAME_HELP)
     thicken_flag(compare)
     compare.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
-    compare.add_argument("--seconds", type=float, default=3.0, help="simulated time [s]")
+    compare.add_argument("--seconds", type=float, default=3.0,
+                         help="simulated time [s] (default 3)")  # fmt: skip
     compare.add_argument("--optimize", type=int, nargs="?", const=CONVERGED, metavar="G",
                          help="also optimize a gait in each fluid (G generations; without G, "
                          "until converged) and swim each in both")  # fmt: skip
     compare.add_argument("--popsize", type=int, metavar="N",
                          help="--optimize: samples per generation (default: CMA-ES's "
                          "for the number of parameters)")  # fmt: skip
-    compare.add_argument("--seed", type=int, default=0, help="--optimize: random seed")
+    compare.add_argument("--seed", type=int, default=0, help="--optimize: random seed (default 0)")
     compare.add_argument("--start", metavar="FILE|NAME",
                          help="--optimize: the gait both searches start from "
                          "(default: the shipped gait)")  # fmt: skip

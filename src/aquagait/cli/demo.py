@@ -13,10 +13,11 @@ def add_parser(commands) -> None:
     demo = commands.add_parser(
         "demo", help="optimize eel2d on a coarse grid, swim and film it; the fish in 3D"
     )
-    demo.add_argument("--generations", type=int, default=20, help="CMA-ES generations")
+    demo.add_argument("--generations", type=int, default=20, help="CMA-ES generations (default 20)")
     demo.add_argument("--workers", type=int, help="worker processes (default: all cores)")
-    demo.add_argument("--seed", type=int, default=0, help="random seed")
-    demo.add_argument("--out", default="runs/demo", metavar="DIR", help="run directory")
+    demo.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    demo.add_argument("--out", default="runs/demo", metavar="DIR",
+                      help="run directory (default runs/demo)")  # fmt: skip
     demo.set_defaults(run=run)
 
 

@@ -13,7 +13,8 @@ def add_parser(commands) -> None:
     export.add_argument("--format", required=True, choices=("usd", "gltf", "vtk", "html"),
                         help="usd (Blender, Houdini), gltf, vtk (ParaView), html")  # fmt: skip
     export.add_argument("--out", metavar="PATH", help="default RUN_DIR/swim.usd, swim.glb, ...")
-    export.add_argument("--traces", type=int, default=1000, help="particle traces exported")
+    export.add_argument("--traces", type=int, default=1000,
+                        help="particle traces exported (default 1000)")  # fmt: skip
     export.set_defaults(run=run)
 
 

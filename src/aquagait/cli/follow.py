@@ -21,7 +21,7 @@ def add_parser(commands) -> None:
                         help="a CSV or JSON file of points [m], or a shape: line, circle, "
                         "s-curve, with parameters as NAME:key=value,... (e.g. circle:"
                         "radius=0.6, s-curve:length=4,amplitude=0.5,vertical=true)")  # fmt: skip
-    follow.add_argument("--cycles", type=int, default=10, help="gait cycles to swim")
+    follow.add_argument("--cycles", type=int, default=10, help="gait cycles to swim (default 10)")
     follow.add_argument("--learned", nargs="+", metavar="RUN|FILE",
                         help="manoeuvres learned by aquagait optimize --maneuver (run "
                         "directories or gait.json), beside the shipped ones")  # fmt: skip

@@ -47,7 +47,7 @@ def add_parser(commands) -> None:
                           "generations (default: 10 + 30 n / popsize; off with "
                           "--generations alone)")  # fmt: skip
     add_evaluator_flags(optimize)
-    optimize.add_argument("--seed", type=int, default=0, help="random seed")
+    optimize.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     optimize.add_argument("--resolution", type=int, nargs="+", metavar="N",
                           help="cells per axis: NX NY (2D) or NX NY NZ (3D)")  # fmt: skip
     optimize.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
@@ -59,12 +59,12 @@ def add_parser(commands) -> None:
                           "generation's best again on the target grid")  # fmt: skip
     optimize.add_argument("--refine-top", type=int, default=2, metavar="K",
                           help="with --coarse: samples a generation swum on the "
-                          "target grid")  # fmt: skip
+                          "target grid (default 2)")  # fmt: skip
     optimize.add_argument("--maneuver", "--manoeuvre", choices=MANEUVERS, default="straight",
                           metavar="NAME",
-                          help=f"learn a manoeuvre, one of {', '.join(MANEUVERS)} (paper §5; "
-                          "2D creatures turn, 3D ones also pitch): offsets freed, rotation "
-                          "rewarded")  # fmt: skip
+                          help=f"learn a manoeuvre, one of {', '.join(MANEUVERS)} (default "
+                          "straight; paper §5: 2D creatures turn, 3D ones also pitch): "
+                          "offsets freed, rotation rewarded")  # fmt: skip
     optimize.add_argument("--turn-limit", type=float, metavar="RAD",
                           help="a manoeuvre: the most rotation about its axis rewarded over "
                           f"a sample [rad] (default {TURN:.4g}, 90 degrees; "

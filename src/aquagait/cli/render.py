@@ -13,7 +13,8 @@ def add_parser(commands) -> None:
     )
     render.add_argument("run_dir", metavar="RUN_DIR", help="a directory written by aquagait swim")
     render.add_argument("--format", choices=("mp4", "gif", "png"), default="mp4",
-                        help="png: the frame, or a contact sheet of six frames")  # fmt: skip
+                        help="mp4 (default), gif, or png: the frame, or a contact sheet of "
+                        "six frames")  # fmt: skip
     render.add_argument("--frames", metavar="A:B", help="frames A to B-1 (default all)")
     look_flags(render)
     render.add_argument("--out", metavar="FILE", help="default RUN_DIR/swim[-VIEW].FORMAT")

@@ -23,12 +23,14 @@ def add_parser(commands) -> None:
     swim.add_argument("--maneuver", "--manoeuvre", choices=MANEUVERS, metavar="NAME",
                       help="swim a learned manoeuvre's shipped gait instead, one of "
                       f"{', '.join(MANEUVERS)}")  # fmt: skip
-    swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s]")
+    swim.add_argument("--seconds", type=float, default=2.0, help="simulated time [s] (default 2)")
     swim.add_argument("--keep-course", action="store_true",
                       help="keep to the line ahead of the start with the creature's learned "
                       "manoeuvres, a share mixed into the gait each cycle (each manoeuvre's "
                       "turn is measured first by a two-cycle swim)")  # fmt: skip
-    swim.add_argument("--fluid", choices=list(FLUIDS), default="euler")
+    swim.add_argument("--fluid", choices=list(FLUIDS), default="euler",
+                      help="euler: the inviscid fluid, two-way coupled (default); simple: "
+                      "drag alone, no grid; none: a vacuum")  # fmt: skip
     swim.add_argument(
         "--resolution",
         type=int,
