@@ -99,6 +99,8 @@ def test_unknown_creature_lists_the_known_ones():
         UnknownCreatureError, match="unknown creature 'shark'; known creatures: accordion2d, alien"
     ):
         get("shark")
+    with pytest.raises(UnknownCreatureError, match=r"an MJCF file, ag.creatures.resolve\(path\)"):
+        get("shark.xml")  # get is the library's; resolve takes a file too
 
 
 def test_register_adds_a_creature_and_refuses_to_overwrite_by_accident():

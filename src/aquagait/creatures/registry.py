@@ -60,10 +60,14 @@ def names() -> list[str]:
 
 
 def get(name: str) -> Creature:
-    """The creature called ``name`` (built on first use, then cached)."""
+    """The library creature called ``name`` (built on first use, then cached); ``resolve``
+    also takes the path of an MJCF file."""
     if name not in _FACTORIES:
+        hint = ""
+        if str(name).lower().endswith(".xml") or Path(str(name)).exists():
+            hint = "; for an MJCF file, ag.creatures.resolve(path) or load(path)"
         raise UnknownCreatureError(
-            f"unknown creature {name!r}; known creatures: {', '.join(names())}"
+            f"unknown creature {name!r}; known creatures: {', '.join(names())}{hint}"
         )
     if name not in _BUILT:
         _BUILT[name] = _FACTORIES[name]()
