@@ -105,6 +105,9 @@ def make_scene(
         cell_size: h [m]; default: the creature's.
         fluid: a fluid model (``Vacuum()``, ``SimpleFluid(k)``,
             ``EulerFluid(...)``), or its name: 'none', 'simple' or 'euler'.
+            The default is the vacuum, not the water the command line,
+            ``prepare_swim`` and ``SwimEnv`` default to, because a bare ``Model``
+            has no grid for the Euler fluid: give ``fluid="euler"`` to swim.
         origin: the grid's lower corner [m], one entry per axis; default: the
             grid is centred on the creature's centre of mass.
         drag_coefficient: shorthand for ``SimpleFluid(drag_coefficient)`` with
