@@ -1,7 +1,7 @@
 """The coupled step against physics: incompressibility, energy, rotational added mass.
 
 Validates the whole two-way coupled step (``ag.step`` in the Euler fluid,
-DESIGN.md §2.1-2.3), not one solver in isolation:
+docs/method-coupling.md, "The coupled step"), not one solver in isolation:
 
 1. Incompressibility: after a step every FLUID cell (not solid at the step's
    start pose) has zero net outflow to the coupled solve's stopping rule, the
@@ -43,7 +43,7 @@ def voxels_at(scene, grid, qpos):
 
 
 def face_area(scene, grid):
-    """``A`` (DESIGN.md §2.3): ``h^2`` in 3D, ``h * depth`` in 2D [m^2]."""
+    """``A`` (docs/method-coupling.md): ``h^2`` in 3D, ``h * depth`` in 2D [m^2]."""
     return grid.cell_size * (grid.cell_size if grid.dim == 3 else scene.model.depth)
 
 

@@ -110,3 +110,29 @@ def test_every_public_name_and_method_has_a_docstring(obj):
         for name, member in vars(obj).items():
             if not name.startswith("_") and inspect.isfunction(member):
                 assert member.__doc__, f"{obj.__qualname__}.{name} has no docstring"
+
+
+OUTSIDE = re.compile(r"DESIGN\.md|STYLE\.md|DEVELOPERS\.md|\.\./shared")
+"""Notes kept beside the repository, not in it: a user who follows a citation of one finds
+nothing. The docs pages hold what they said (docs/development.md, the method pages)."""
+
+
+def test_nothing_cites_a_file_outside_the_repository():
+    skip = {"node_modules", "__pycache__"}
+    paths = [ROOT / "README.md"]
+    for folder in ("src", "docs", "examples", "tools"):
+        paths += sorted(p for p in (ROOT / folder).rglob("*") if p.is_file())
+    found = []
+    for path in paths:
+        parts = path.relative_to(ROOT).parts
+        if skip.intersection(parts) or any(part.endswith(".egg-info") for part in parts):
+            continue
+        try:
+            text = path.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            continue  # not a text file
+        for number, line in enumerate(text.splitlines(), 1):
+            if OUTSIDE.search(line):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()[:100]}")
+    listed = "\n".join(found)
+    assert not found, f"cites a file outside the repository (cite a docs page):\n{listed}"

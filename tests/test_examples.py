@@ -1,4 +1,4 @@
-"""Every example runs headless in a few seconds with ``--steps 2`` (STYLE.md §12)."""
+"""Every example runs headless in a few seconds with ``--steps 2`` (docs/development.md)."""
 
 import subprocess
 import sys

@@ -1,4 +1,4 @@
-"""The layer rules of DESIGN.md §3: a module imports only from layers below it."""
+"""The layer rules of docs/development.md, "Layers": a module imports only from layers below it."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ LAYERS = [
 ]
 LAYER_OF = {unit: level for level, units in enumerate(LAYERS) for unit in units}
 
-# Third-party engines, each behind one adapter (STYLE.md §8).
+# Third-party engines, each behind one adapter (docs/development.md).
 ADAPTERS = {
     "mujoco": {"body/dynamics.py"},
     "cma": {"optimize/"},
@@ -68,7 +68,7 @@ def _imports(path: Path):
 def _violations(rel: str, path: Path) -> list[str]:
     unit = _unit(rel)
     if unit not in LAYER_OF:
-        return [f"{rel}: unit {unit!r} has no layer in DESIGN.md §3; add it to LAYERS"]
+        return [f"{rel}: unit {unit!r} has no layer in docs/development.md; add it to LAYERS"]
     problems = []
     for name in _imports(path):
         top, _, rest = name.partition(".")

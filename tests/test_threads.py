@@ -3,7 +3,7 @@
 A Dask worker runs one evaluation per thread (``dask worker`` starts one thread
 per core), so nothing an evaluation writes may be shared between threads:
 solver workspaces, MuJoCo scratch data and its caches belong to the thread
-(DESIGN.md §3, last paragraph). The threads here share ONE scene, as a worker
+(docs/development.md, "Layers"). The threads here share ONE scene, as a worker
 shares the scene it caches, and swim different gaits, so any shared scratch
 state would mix the two swims.
 

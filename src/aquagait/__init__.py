@@ -1,7 +1,9 @@
 """aquagait: articulated creatures that swim in an incompressible fluid.
 
 Implements Tan, Gu, Turk and Liu, "Articulated Swimming Creatures"
-(SIGGRAPH 2011). See DESIGN.md for the method and the architecture.
+(SIGGRAPH 2011). The method is explained in docs/method-fluid.md,
+docs/method-bodies.md, docs/method-coupling.md and docs/method-search.md, the
+architecture in docs/development.md.
 
 Glossary of symbols (SI units throughout):
 
@@ -14,7 +16,13 @@ Glossary of symbols (SI units throughout):
     D u     net outflow of a cell through its faces per unit face area [m/s]
     q, qd   generalized positions and velocities (MuJoCo qpos, qvel)
     M, c    mass matrix and bias forces of the articulated body
-    Kp, Kd  PD gains; Mt = M + dt Kd
+    Kp, Kd  PD gains
+    D       (alone) the servos' implicit damping, Kd in the paper's stable PD
+    Mt      M + dt D, the mass the pressure moves the body against
+    qbar(t) the gait's reference joint angles [rad]
+    n_f     a coupled face's normal, from the solid into the water
+    J_f     (3 x nv) point Jacobian of the link that owns face f, at its centre
+    B       (nv x cells) pressures beside coupled faces -> generalized force
     A       coupled face area: h^2 in 3D, h * depth in 2D [m^2]
 """
 

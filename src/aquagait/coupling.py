@@ -1,9 +1,9 @@
 """Two-way coupling: fluid and articulated body in one SPD pressure solve (paper §3.3).
 
-Derivation (DESIGN.md §2.3), for faces that may be partly solid (Batty,
-Bertails and Bridson 2007). Every face f near the body has a water fraction
-``w_f`` in [0, 1] (``Voxels.face_weight``; faces away from the body have
-``w = 1``): the share of its control volume, the box of one cell centred on
+Derivation of the system in docs/method-coupling.md, "The coupled step", for
+faces that may be partly solid (Batty, Bertails and Bridson 2007). Every face f near the
+body has a water fraction ``w_f`` in [0, 1] (``Voxels.face_weight``; faces
+away from the body have ``w = 1``): the share of its control volume, the box of one cell centred on
 the face, that is water. The staircase (``aquagait.body.voxelize``) is the
 special case ``w = 0`` on every coupled face, with a solid cell on one side;
 ``aquagait.body.subcell`` gives fractions between. Cells with no open face

@@ -1,4 +1,6 @@
-"""The simple fluid's force: quadratic drag on every surface patch (paper §7, DESIGN.md §2.6).
+"""The simple fluid's force: quadratic drag on every surface patch (paper §7).
+
+docs/compare-fluids.md compares it with the Euler fluid.
 
 No grid and no flow: the water is at rest, and a patch of area ``A`` with
 outward normal ``n`` whose centre moves at ``v`` (the link's rigid velocity
@@ -19,7 +21,7 @@ one in the open. Nothing here is tangential: a plate sliding along itself
 feels no force (no skin friction).
 
 This module joins the body's geometry (``aquagait.body.surface``) with the
-fluid's density; it sits at the coupling layer (DESIGN.md §3) and never
+fluid's density; it sits at the coupling layer (docs/development.md) and never
 imports the grid fluid.
 """
 

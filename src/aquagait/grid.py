@@ -1,7 +1,7 @@
 """MAC grid geometry: shapes, coordinates, index maths, the CFL time step, flood fills.
 
 The grid is the lowest layer of aquagait and imports nothing of its own
-(DESIGN.md §3). It knows where things are, not what they do.
+(docs/development.md, "Layers"). It knows where things are, not what they do.
 
 Layout (Harlow & Welch's marker-and-cell grid, paper §3.1):
 
@@ -208,7 +208,8 @@ def sealed(solid: np.ndarray) -> np.ndarray:
 
     Fluid passes between cells that share a face (4 neighbours in 2D, 6 in
     3D), never across an edge or corner alone. A pocket has no open-boundary
-    neighbour, so its block of the pressure Laplacian is singular (DESIGN.md §2.3).
+    neighbour, so its block of the pressure Laplacian is singular
+    (docs/method-coupling.md).
 
     Args:
         solid: boolean cell mask, ``grid.shape`` (2D or 3D).

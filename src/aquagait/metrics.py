@@ -1,6 +1,6 @@
 """How well a creature swims: distance, speed, energy, cost of transport, Strouhal number.
 
-Measured on a ``Trajectory`` (DESIGN.md §1 step 3; paper §6 reports speed in
+Measured on a ``Trajectory`` (docs/swim.md; paper §6 reports speed in
 body lengths per cycle). A swim starts from rest, so there are two kinds of
 figure, named apart:
 

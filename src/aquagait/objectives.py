@@ -1,4 +1,4 @@
-"""The swimming objective: a trajectory in, one number out (paper §4, DESIGN.md §2.4).
+"""The swimming objective: a trajectory in, one number out (paper §4, docs/method-search.md).
 
 Over a run of (by default) two gait cycles, minimized:
 
@@ -22,7 +22,7 @@ Over a run of (by default) two gait cycles, minimized:
   volume is a snapshot per sampled frame, so it is integrated by the
   trapezoid rule over the sampled frames' times (the last frame included).
 
-A manoeuvre (paper §5, DESIGN.md §2.5: ``MANEUVERS``) adds ``E_turn =
+A manoeuvre (paper §5, docs/follow.md: ``MANEUVERS``) adds ``E_turn =
 -min(r . dtheta, TURN)``, the root's rotation vector ``dtheta`` along the
 desired axis ``r`` negated [rad], with the desired direction ``d`` half way
 to the turn, and its ``E_deviation`` counts only the unwanted rotation,

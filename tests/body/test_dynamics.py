@@ -225,7 +225,7 @@ def test_bad_arguments_say_what_is_expected(snake, snake_dynamics):
 
 
 def test_threads_sharing_one_dynamics_get_their_serial_numbers(snake, snake_dynamics):
-    """The MuJoCo scratch data and its cache belong to the thread (DESIGN.md §3).
+    """The MuJoCo scratch data and its cache belong to the thread (docs/development.md, "Layers").
 
     Two threads ask for M, c and point Jacobians at their own states, the
     interpreter switching between them every microsecond; with one scratch

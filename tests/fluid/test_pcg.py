@@ -119,7 +119,7 @@ def test_wrong_rhs_shape_is_named():
 
 
 def test_solves_in_two_threads_equal_serial_solves():
-    """Threads may share a system (it is only read) but never a workspace (DESIGN.md §3).
+    """Threads may share a system (it is only read) but never a workspace (docs/development.md).
 
     The interpreter switches threads every microsecond, between the Python
     loop's calls to the kernels; with one workspace per process (as it was),

@@ -1,4 +1,4 @@
-"""The jobs users run, each prepare -> run -> write (DESIGN.md §3, §5).
+"""The jobs users run, each prepare -> run -> write (docs/development.md).
 
     setup = prepare_swim("eel2d", seconds=4.0)     # resolve and check everything; SetupError
     out = output_directory("runs/eel2d")           # created and writable, or SetupError

@@ -1,4 +1,6 @@
-"""Check a creature before swimming it: its table, and its body on the default grid (DESIGN.md §5).
+"""Check a creature before swimming it: its table, and its body on the default grid.
+
+docs/own-creature.md, "Check a creature", says what it prints and writes.
 
     setup = prepare_check("eel2d")              # or the path of an MJCF file; CheckSetupError
     report = run_check(setup)                   # the numbers, warnings for thin links
@@ -54,7 +56,7 @@ from aquagait.sim.follow import cells_for, check_room, room, widest_box
 from aquagait.sim.inertia import inertia_in_fluid
 
 THIN_CELLS = 2.0
-"""A link should be at least this many cells thick (DESIGN.md §2.8)."""
+"""A link should be at least this many cells thick (docs/own-creature.md, "Check a creature")."""
 
 NEUTRAL = (0.8, 1.25)
 """A body whose mass is outside these multiples of the water it displaces gets a warning."""

@@ -1,4 +1,4 @@
-"""The coarse grid of a coarse-to-fine search (DESIGN.md §2.9; ``Problem.refine``).
+"""The coarse grid of a coarse-to-fine search (docs/optimize.md; ``Problem.refine``).
 
 Samples are ranked on a grid ``factor`` times coarser (in 3D, ``factor^3``
 fewer cells, and the CFL step grows with h), and the best of every

@@ -15,7 +15,7 @@ the same lattice), and compares the distances swum:
   the step's;
 - grid: the default grid's within ``GRID_TOLERANCE`` of the 2x finer one's;
 - domain: the default domain's within ``DOMAIN_TOLERANCE`` of the 1.5x
-  larger one's (the open boundary and the grid's shifts, DESIGN.md §2.1,
+  larger one's (the open boundary and the grid's shifts, docs/method-fluid.md,
   must not steer the swim).
 
 A finer grid costs about ``2^dim`` times the cells and, through the CFL

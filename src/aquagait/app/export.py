@@ -1,4 +1,4 @@
-"""Take a run elsewhere: ``aquagait export RUN_DIR --format usd|gltf|vtk|html`` (DESIGN.md §5, §7).
+"""Take a run elsewhere: ``aquagait export RUN_DIR --format usd|gltf|vtk|html`` (docs/export.md).
 
     setup = prepare_export("runs/fish", "gltf")      # checks the run, the format, the path
     path = run_export(setup)                          # runs/fish/swim.glb

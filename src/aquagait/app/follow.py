@@ -1,4 +1,4 @@
-"""Follow a path with learned manoeuvres and keep the run on disk (paper §5, DESIGN.md §2.5).
+"""Follow a path with learned manoeuvres and keep the run on disk (paper §5, docs/follow.md).
 
     setup = prepare_follow("eel2d", "circle:radius=0.6", cycles=12)
     run = run_follow(setup, progress=lambda done, total: ...)

@@ -1,4 +1,4 @@
-"""Optimize a library creature's gait and keep the run on disk (DESIGN.md §1 step 2, §2.4).
+"""Optimize a library creature's gait and keep the run on disk (docs/optimize.md).
 
     setup = prepare_optimization("eel2d", generations=30, resolution=(64, 32), cell_size=0.02)
     result = run_optimization(setup, run_dir="runs/eel2d", executor=local_executor(2))

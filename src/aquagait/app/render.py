@@ -1,4 +1,4 @@
-"""Draw a run directory's swim again, without simulating it (DESIGN.md §1 step 5, §5).
+"""Draw a run directory's swim again, without simulating it (docs/pictures.md).
 
     setup = prepare_render("runs/fish", format="gif", view="top", frames="0:90")
     path = run_render(setup)                # runs/fish/swim-top.gif

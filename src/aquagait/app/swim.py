@@ -1,4 +1,4 @@
-"""Swim a library creature with a gait and keep the run on disk (DESIGN.md §1 step 3, §5).
+"""Swim a library creature with a gait and keep the run on disk (docs/swim.md).
 
     setup = prepare_swim("eel2d", gait="runs/eel2d-optimize/gait.json", seconds=2.0)
     run = run_swim(setup, progress=lambda done, total: ...)

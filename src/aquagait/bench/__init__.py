@@ -1,5 +1,5 @@
 """Benchmarks behind ``aquagait bench``: each prints its figures beside a baseline
-measured in the same run, because shared machines are noisy (DEVELOPERS.md)."""
+measured in the same run, because shared machines are noisy (docs/benchmarks.md)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,7 @@
 """The articulated body: MJCF models (``model``) and their dynamics (``dynamics``).
 
-Never imports the fluid (DESIGN.md §3); only ``dynamics`` imports MuJoCo.
+Never imports the fluid (docs/development.md, "Layers"); only ``dynamics``
+imports MuJoCo.
 """
 
 from aquagait.body.dynamics import Dynamics

@@ -1,4 +1,4 @@
-"""Articulated-body dynamics: the one adapter to MuJoCo (DESIGN.md §2.2, STYLE.md §8).
+"""Articulated-body dynamics: the one adapter to MuJoCo (docs/method-bodies.md).
 
 MuJoCo supplies the mass matrix ``M(q)``, the bias forces ``c(q, qd)``
 (Coriolis and centrifugal; gravity is switched off because creatures are
@@ -256,8 +256,8 @@ class Dynamics:
     Threads: the ``MjModel`` is only read; the MuJoCo scratch ``MjData`` and
     the cache belong to the calling thread (one of each per thread, kept while
     the thread lives), so threads may share one ``Dynamics``, and a scene
-    holding it, and each gets exactly its serial numbers (DESIGN.md §3, last
-    paragraph). Pickling keeps only the model; the scratch is rebuilt on
+    holding it, and each gets exactly its serial numbers (docs/development.md,
+    "Layers"). Pickling keeps only the model; the scratch is rebuilt on
     first use, so a scene can be shipped to worker processes.
 
     Args:

@@ -1,4 +1,4 @@
-"""Points on a creature's geoms, and its tail tip (DESIGN.md §3, body).
+"""Points on a creature's geoms, and its tail tip (docs/development.md, "Layers").
 
 Pure geometry of the model at given poses, used by the swim metrics and the
 pictures. ``geom_point_sets`` / ``geom_points`` sample every geom at the

@@ -1,6 +1,6 @@
 """Creature models: load an MJCF, check it is a swimmer we can simulate, describe it.
 
-A creature is one tree of links under the world (DESIGN.md §2.2):
+A creature is one tree of links under the world (docs/method-bodies.md):
 
 - 3D: the root link has a ``<freejoint/>`` (6 DOF: position, quaternion).
 - 2D (planar): the root link has exactly the joints slide x, slide y, hinge z,

@@ -1,4 +1,6 @@
-"""Self-collision: the volume where non-adjacent links overlap (DESIGN.md §2.4, ``E_collision``).
+"""Self-collision: the volume where non-adjacent links overlap (``E_collision``).
+
+The objective charges it (docs/method-search.md, "The gait and the objective").
 
 Links are sampled from their baked signed-distance grids (``aquagait.body.shape``)
 at the points of a fine lattice over the body, with the same pose checks and
@@ -21,7 +23,7 @@ MAX_OVERLAP_SAMPLES = 50_000_000
 
 
 def overlap_volume(shape: BodyShape, link_pos, link_rot, spacing: float) -> float:
-    """Volume where two or more non-adjacent links overlap [m^3] (DESIGN.md §2.4, E_collision).
+    """Volume where two or more non-adjacent links overlap [m^3] (``E_collision``).
 
     Counts the points of a lattice of the given spacing over the body's
     bounding box that lie inside two links that are not parent and child

@@ -33,7 +33,7 @@ the inertia-only (and visual-only) geoms are removed; compiled again, the
 model moves exactly as before and its geoms are the shape.
 
 The same rewrite thickens thin parts for the fluid (``thin_geoms``): a grid
-sees a part well only when it is a cell or two thick (DESIGN.md §2.8), and
+sees a part well only when it is a cell or two thick (docs/own-creature.md), and
 fins written for MuJoCo's own fluid model are often 2 mm plates. A primitive
 geom thinner than a given minimum (``aquagait.creatures`` asks for one cell
 of the default grid, as thick as the library's creatures were built) across

@@ -4,8 +4,8 @@ A rotation by angle ``a`` [rad] about unit axis ``n`` is the quaternion
 ``(cos(a/2), sin(a/2) n)`` and the rotation vector (exponential map) ``a n``.
 ``quat_exp`` and ``quat_log`` convert between them; ``quat_log`` takes the
 short way round (angle in [0, pi]), so ``quat_log(quat_exp(r)) == r`` for
-``|r| <= pi``. Used by the ball-joint servos (DESIGN.md §2.2) and by the
-objective's change of orientation (§2.4, ``E_deviation``).
+``|r| <= pi``. Used by the ball-joint servos (docs/method-bodies.md) and by the
+objective's change of orientation (docs/method-search.md, ``E_deviation``).
 """
 
 from __future__ import annotations

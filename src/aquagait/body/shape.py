@@ -1,8 +1,9 @@
-"""Link shapes as signed-distance grids, baked once per model and cell size (DESIGN.md §2.3).
+"""Link shapes as signed-distance grids, baked once per model and cell size.
 
-``voxelize`` asks, every fluid step, "is this cell centre inside link k, and
-how deep?". Answering from the geoms themselves would mean a branch per geom
-type and, for a mesh, a loop over its triangles at every cell. Instead each
+``voxelize`` asks, every fluid step (docs/method-coupling.md, "The coupled
+step"), "is this cell centre inside link k, and how deep?". Answering from
+the geoms themselves would mean a branch per geom type and, for a mesh, a
+loop over its triangles at every cell. Instead each
 link's geometry is sampled once, here, as a signed distance ``phi`` (negative
 inside, [m]) on a regular grid of spacing ``s = h / refine`` in the link's
 *rest frame*: the link's origin with the world axes at the reference pose

@@ -1,4 +1,4 @@
-"""The links' surfaces as small flat patches in their link frames (simple fluid, DESIGN.md §2.6).
+"""The links' surfaces as small flat patches in their link frames (docs/compare-fluids.md).
 
 The simple fluid (paper §7) needs, for every surface element of every link,
 where it is, which way it faces and how large it is. They are built once per

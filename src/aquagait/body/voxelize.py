@@ -1,9 +1,10 @@
 """Voxelize the links at a pose: solid cells, their owner links, the coupled faces (paper §3.3).
 
-DESIGN.md §2.3: a cell whose centre lies inside a link is SOLID and remembers
-that link; a face between a FLUID and a SOLID cell is a *coupled face*, with
-outward normal ``n_f = sign * e_axis`` (from the solid cell into the fluid
-cell) and the solid cell's owner. This runs every fluid step, so each link
+As docs/method-coupling.md, "The coupled step", says: a cell whose centre
+lies inside a link is SOLID and remembers that link; a face between a FLUID
+and a SOLID cell is a *coupled face*, with outward normal ``n_f = sign *
+e_axis`` (from the solid cell into the fluid cell) and the solid cell's
+owner. This runs every fluid step, so each link
 tests only the cells inside its own world bounding box, against its
 signed-distance grid baked once in its rest frame (``aquagait.body.shape``),
 in serial Numba kernels.
@@ -14,9 +15,9 @@ Rules:
   most negative sampled signed distance); an exact tie goes to the lowest link
   index.
 - Pockets: fluid cells that cannot reach the grid border through fluid would
-  make the pressure system singular (DESIGN.md §2.3). They become solid and
-  move with the body: each takes the owner of the nearest solid cell (a
-  breadth-first search from the solid; ties in scan order).
+  make the pressure system singular (docs/method-coupling.md). They become
+  solid and move with the body: each takes the owner of the nearest solid
+  cell (a breadth-first search from the solid; ties in scan order).
 - The grid border is open water: faces on it are never coupled faces.
 - 2D: the planar body is cut at z = 0; its links turn about z only.
 

@@ -8,7 +8,7 @@ implicit damping ``D`` [N m s/rad] to the mass,
     (M + dt D) qdd = -Kp [theta e(t + dt, q + dt qd) + (1 - theta) e(t, q)] - Kd qd - c
 
 with ``e(t, q) = q - qbar(t)``. Tan, Liu and Turk's stable PD (paper §3.2,
-DESIGN.md §2.2) is ``theta = 1, D = Kd`` (``end_of_step``).
+docs/method-bodies.md) is ``theta = 1, D = Kd`` (``end_of_step``).
 
 One DOF of inertia I, ``a = Kp``, ``b = Kd``, a still target: semi-implicit
 Euler maps ``(e, dt qd)`` by ``[[1 - p, 1 - p - s], [-p, 1 - p - s]]`` with

@@ -1,4 +1,4 @@
-"""Sine gaits: a flat parameter vector mapped onto per-DOF sines (DESIGN.md §2.4, paper §4).
+"""Sine gaits: a flat parameter vector mapped onto per-DOF sines (docs/method-search.md, paper §4).
 
 Each actuated DOF i follows the reference
 

@@ -1,4 +1,4 @@
-"""PD servos that track a gait: explicit, and the stable (implicit) form (DESIGN.md §2.2).
+"""PD servos that track a gait: explicit, and the stable (implicit) form (docs/method-bodies.md).
 
 A servo is a policy in the sense of ``aquagait.sim``: ``policy(t, q, qd) -> tau``
 (nv,) with

@@ -1,4 +1,4 @@
-"""The creature library, and creatures from any MJCF file (DESIGN.md §2.8, §4; STYLE.md §14).
+"""The creature library, and creatures from any MJCF file (docs/own-creature.md).
 
     import aquagait as ag
     ag.creatures.names()                 # ['accordion2d', 'eel2d', 'fish']
@@ -12,7 +12,8 @@ Each built-in creature is an MJCF file beside this module, its metadata
 ``<name>.aquagait.json`` (format: ``aquagait.creatures.metadata``) and a
 module whose docstring tables its links, DOFs, gait parameters and bounds
 (``eel2d``, ``fish``, ``accordion2d``). What metadata leaves out comes from
-the model: ``aquagait.creatures.defaults``.
+the model: ``aquagait.creatures.defaults``. Why a registry: docs/development.md,
+"How the code reads".
 """
 
 from aquagait.creatures.creature import Creature, CreatureError, ShippedGait, UnknownCreatureError

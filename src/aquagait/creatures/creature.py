@@ -1,4 +1,4 @@
-"""A creature: a checked model plus what aquagait needs to swim it (DESIGN.md §2.8).
+"""A creature: a checked model plus what aquagait needs to swim it (docs/own-creature.md).
 
 The model says what the body is; the rest says how to drive it and where to
 put it: the gait's parameterization and bounds, the gait it swims by default,
@@ -71,7 +71,7 @@ class Creature:
         resolution: default grid cells per axis, (nx, ny) or (nx, ny, nz).
         cell_size: default h [m].
         energy_bound: [J] actuator work over two cycles above which the
-            objective's energy term switches on (DESIGN.md §2.4).
+            objective's energy term switches on (docs/method-search.md).
         energy_weight: [1/J] that term's weight (``objectives.Weights.energy``):
             once the work passes the bound, the objective adds this times it.
         natural_frequency: PD servo w [rad/s] (see ``aquagait.control.pd``).
@@ -176,7 +176,7 @@ class Creature:
 
 
 def maneuver_spec(spec: GaitSpec, model: Model, maneuver: str) -> GaitSpec:
-    """The gait parameterization a manoeuvre is learned in (paper §5, DESIGN.md §2.5).
+    """The gait parameterization a manoeuvre is learned in (paper §5, docs/follow.md).
 
     Straight swimming uses ``spec`` itself. A turn or a pitch frees the
     offsets, so that joints can hold a bend while they beat; each offset

@@ -1,4 +1,4 @@
-"""What a creature gets from its model when its metadata is silent (DESIGN.md §2.8).
+"""What a creature gets from its model when its metadata is silent (docs/own-creature.md).
 
 - **Gait**: amplitude and phase for every actuated DOF (each hinge, each axis
   of a ball joint), period 1 s, offset 0.
@@ -9,8 +9,9 @@
   side would only give the optimizer samples to throw away. When the offset is
   free, the amplitude gets the whole half-range (hi - lo) / 2 and the offset
   [lo, hi]: the box around every admissible (amplitude, offset); samples
-  outside the limits are resampled (DESIGN.md §2.4). A mirrored DOF's limit
-  narrows its source's bound; a shared amplitude gets the smallest of all.
+  outside the limits are resampled (docs/method-search.md). A mirrored DOF's
+  limit narrows its source's bound; a shared amplitude gets the smallest of
+  all.
 - **Cell size**: half the thickness of the thinnest link (its largest
   inscribed ball, ``aquagait.body.shape.link_thickness``, baked at L/400 in 2D
   and L/100 in 3D, so accurate to that), rounded *down* to 1, 1.2, 1.5, 2,

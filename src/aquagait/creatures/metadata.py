@@ -1,4 +1,4 @@
-"""Creature metadata as data: the side-car ``<stem>.aquagait.json`` (DESIGN.md §2.8).
+"""Creature metadata as data: the side-car ``<stem>.aquagait.json`` (docs/own-creature.md).
 
 A creature is an MJCF file plus, optionally, a JSON file beside it with the
 same stem (``eel2d.xml`` and ``eel2d.aquagait.json``) stating what the model

@@ -1,4 +1,4 @@
-"""The creature library: a registry of named creatures (STYLE.md §14), and creatures from files.
+"""The creature library: a registry of named creatures, and creatures from files.
 
 A library creature is an MJCF file beside this module, its side-car
 ``<name>.aquagait.json`` (``aquagait.creatures.metadata``) and a module whose
@@ -11,6 +11,8 @@ A creature from a file has its thin parts thickened for the fluid to at least
 masses unchanged, a note names each part). ``load(path, thicken=False)``
 keeps them as written; its key for ``resolve`` (and for worker processes)
 is the path with ``AS_WRITTEN`` appended (``as_written``).
+
+Why a registry: docs/development.md, "How the code reads".
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ with the ``gym`` extra, and a user's MJCF at the same path.
 ``examples/07_learn_to_swim.py`` trains a controller for eel2d with two
 environments on two processes.
 
-Beside ``aquagait.app`` in the layers (DESIGN.md §3): a user's loop drives
+Beside ``aquagait.app`` in the layers (docs/development.md): a user's loop drives
 ``step``; this package imports the simulation, the creatures and the
 pictures (for ``render``), and nothing imports it.
 """

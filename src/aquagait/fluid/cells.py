@@ -2,8 +2,8 @@
 
 The pressure kernels see every grid, 2D or 3D, as a 3D array with one ghost
 layer around it (``padded_shape``). Ghost cells stand for the open boundary:
-they hold ``p = 0`` for ever (Dirichlet, DESIGN.md §2.1). Solid cells hold
-``p = 0`` too and have no unknown. Because both are zero, the Laplacian of a
+they hold ``p = 0`` for ever (Dirichlet, docs/method-fluid.md). Solid cells
+hold ``p = 0`` too and have no unknown. Because both are zero, the Laplacian of a
 fluid cell is ``diag * p - (sum of the six neighbours)`` with no branches,
 where ``diag`` counts the neighbours that are not solid (ghosts included).
 
@@ -51,7 +51,8 @@ def seal_pockets(solid: np.ndarray) -> np.ndarray:
     """Treat fluid that cannot reach the open boundary as solid.
 
     Fluid enclosed by solid cells has no Dirichlet neighbour, so its block of
-    the Laplacian is singular (DESIGN.md §2.3): such pockets move with the body.
+    the Laplacian is singular (docs/method-coupling.md): such pockets move
+    with the body.
 
     Args:
         solid: boolean cell mask, ``grid.shape``.

@@ -1,7 +1,7 @@
 """Matrix-free preconditioned conjugate gradients for the pressure system.
 
 Solves ``(L + U C U^T) p = b`` where ``L`` is the cell-centred Laplacian over
-fluid faces (open-boundary ghosts included, DESIGN.md §2.3), each face
+fluid faces (open-boundary ghosts included, docs/method-coupling.md), each face
 weighted by its water fraction where ``PartialFaces`` lists one (sub-cell
 boundaries), and ``U C U^T`` an optional symmetric positive semi-definite
 low-rank term. The fluid alone uses
@@ -11,9 +11,10 @@ acts on ``L`` alone; the rank-``k`` term costs at most ``k`` extra iterations.
 
 The iteration is a short Python loop over Numba kernels (a few microseconds
 of overhead per iteration). The preconditioner is a function passed in
-(STYLE.md §5): ``precondition(system) -> apply(r, z)``, built once per solve;
-``multigrid.preconditioner`` by default, ``preconditioners.mic0`` and
-``preconditioners.jacobi`` for comparison.
+(docs/development.md, "How the code reads"): ``precondition(system) ->
+apply(r, z)``, built once per solve; ``multigrid.preconditioner`` by
+default, ``preconditioners.mic0`` and ``preconditioners.jacobi`` for
+comparison.
 
 Convergence is tested in the max norm, ``max |b - A p| <= atol``: after a
 projection this bounds every cell's divergence, not only their average.

@@ -1,9 +1,9 @@
 """Pressure projection: make a face velocity field divergence free (paper §3.1).
 
-For a static solid with a prescribed velocity (the fluid half of DESIGN.md
-§2.3, without the body's unknowns): faces that touch a solid cell take the
-solid's velocity; every other face, the open-boundary faces included, is
-updated by the pressure gradient
+For a static solid with a prescribed velocity (the fluid half of the coupled
+step of docs/method-coupling.md, without the body's unknowns): faces that
+touch a solid cell take the solid's velocity; every other face, the
+open-boundary faces included, is updated by the pressure gradient
 
     u = u* - dt / (rho h) (p_hi - p_lo),      p = 0 in the ghost cells outside,
 

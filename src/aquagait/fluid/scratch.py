@@ -1,4 +1,4 @@
-"""Scratch arrays kept between calls, one set per thread (DESIGN.md §3, last paragraph).
+"""Scratch arrays kept between calls, one set per thread (docs/development.md, "Layers").
 
 The solver's kernels write into work vectors of several megabytes. Fresh
 arrays cost a page fault per 4 KiB on first touch, more than a whole V-cycle

@@ -1,4 +1,4 @@
-"""Files in and out: run directories and gait files (DESIGN.md §3, §5). Files only.
+"""Files in and out: run directories and gait files (docs/run-directory.md). Files only.
 
     from aquagait.io import read_run, read_gait, write_gait
 

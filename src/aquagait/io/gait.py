@@ -1,4 +1,4 @@
-"""``gait.json``: a creature's gait as a named, flat parameter vector (DESIGN.md §2.4, §5).
+"""``gait.json``: a creature's gait as a named, flat parameter vector (docs/method-search.md).
 
     {
       "creature": "eel2d",

@@ -1,4 +1,4 @@
-"""Run directories: a run's settings, trajectory and metrics on disk (DESIGN.md §5).
+"""Run directories: a run's settings, trajectory and metrics on disk (docs/swim.md).
 
 A run directory holds
 

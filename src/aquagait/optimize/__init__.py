@@ -1,6 +1,6 @@
 """Gait optimization: CMA-ES over a black-box objective (paper §4).
 
-The optimizer knows nothing of physics (DESIGN.md §3): it minimizes
+The optimizer knows nothing of physics (docs/development.md): it minimizes
 `objective(x) -> float` over a box, rejecting infeasible samples before they
 are evaluated, optimizing groups of parameters in turn, evaluating a
 generation serially, in local processes or on a Dask cluster (same seed, same

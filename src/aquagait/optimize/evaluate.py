@@ -1,4 +1,4 @@
-"""Evaluate a generation's samples, serially or through any executor (STYLE.md §7).
+"""Evaluate a generation's samples, serially or through any executor (docs/optimize.md).
 
 An executor is anything with `submit(fn, *args) -> concurrent.futures.Future`
 (`ProcessPoolExecutor`, Dask's `Client.get_executor()`, the helpers in

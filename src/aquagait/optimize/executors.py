@@ -1,4 +1,4 @@
-"""Executors for `optimize`: local worker processes, or a Dask cluster (STYLE.md §7).
+"""Executors for `optimize`: local worker processes, or a Dask cluster (docs/optimize.md).
 
 Both are `concurrent.futures.Executor`s: `submit(fn, *args) -> Future`, `map`,
 `shutdown`, and `with` blocks. `optimize(executor=None)` needs neither: it

@@ -1,8 +1,9 @@
 """What the optimizer is asked (Problem, Settings) and what it answers (Result, reports).
 
-The optimizer knows nothing of physics (DESIGN.md §3): a problem is a function
-`objective(x) -> float` of a parameter vector `x` of shape (n,) inside a box,
-to be minimized, plus an optional feasibility test (joint limits, paper §4).
+The optimizer knows nothing of physics (docs/development.md): a problem is a
+function `objective(x) -> float` of a parameter vector `x` of shape (n,)
+inside a box, to be minimized, plus an optional feasibility test (joint
+limits, paper §4).
 """
 
 from __future__ import annotations
@@ -79,7 +80,7 @@ class Problem:
         refine: coarse-to-fine search. `refine(x) -> float` is the objective
             the search is for (e.g. the swim on the target grid) and
             `objective` a cheaper model of it that only ranks the samples
-            (the swim on a coarser grid, DESIGN.md §2.9). CMA-ES learns from
+            (the swim on a coarser grid, docs/optimize.md). CMA-ES learns from
             `objective`; the best `Settings.refine_top` samples of every
             generation are also evaluated with `refine`, and the answer is the
             best point by `refine`. None: `objective` is the objective.

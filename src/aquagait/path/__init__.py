@@ -1,4 +1,4 @@
-"""Paths and the follower's rule (paper §5, DESIGN.md §2.5): what to follow, and which
+"""Paths and the follower's rule (paper §5, docs/follow.md): what to follow, and which
 manoeuvre to swim at each cycle's start.
 
     from aquagait.path import shape, read_path, choose_maneuver, root_frame

@@ -1,5 +1,5 @@
 """The path follower: a planner that picks a learned manoeuvre, or a share of one, at every
-cycle's start (paper §5, DESIGN.md §2.5).
+cycle's start (paper §5, docs/follow.md).
 
     follower = Follower(scene, gaits, servo, path, period=1.0, dead_band=0.05)
     trajectory = rollout(scene, init_state(scene), None, seconds, plan=follower)

@@ -1,4 +1,4 @@
-"""Paths to follow (paper §5, DESIGN.md §2.5): polylines in metres, from files or shapes.
+"""Paths to follow (paper §5, docs/follow.md): polylines in metres, from files or shapes.
 
     path = shape("circle", dim=2, radius=1.0)          # or line, s-curve
     path = read_path("my_path.csv", dim=3)             # x,y[,z] rows; or JSON

@@ -1,4 +1,4 @@
-"""The path follower's choice of manoeuvre, once a cycle (paper §5, DESIGN.md §2.5).
+"""The path follower's choice of manoeuvre, once a cycle (paper §5, docs/follow.md).
 
 At the start of every gait cycle the follower takes the path's point ``p``
 nearest the creature's root and the path's tangent ``d`` (``Follower`` reads it

@@ -1,4 +1,4 @@
-"""Simulation: a fixed ``Scene``, a changing ``State``, ``step`` and ``rollout`` (DESIGN.md §3, §4).
+"""Simulation: a fixed ``Scene``, a changing ``State``, ``step`` and ``rollout``.
 
     scene   = make_scene(creature, fluid=EulerFluid())   # or fluid="euler" | "simple" | "none"
     state   = init_state(scene)
@@ -14,7 +14,8 @@ of every step: the policy seam and the stable PD), ``follow`` (the grid that
 follows the swimmer), ``rollout`` (step, advance, rollout, Trajectory),
 ``inertia`` (each DOF's inertia in its fluid, added mass included),
 ``frames`` (the fluid recorded per frame) and ``particles`` (traces through
-the recorded flow, for pictures and exports).
+the recorded flow, for pictures and exports). Where ``sim`` sits among the
+layers, and why a fixed scene and a changing state: docs/development.md.
 """
 
 from aquagait.sim.fluids import (

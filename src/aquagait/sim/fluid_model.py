@@ -1,7 +1,7 @@
 """What a fluid model is (the protocol ``Scene`` holds), and the registry of them by name.
 
 A fluid model is an object passed to ``make_scene``, not a string tested in
-branches (DESIGN.md §3). Each has
+branches (docs/development.md, "Layers"). Each has
 
     name                          'none', 'simple' or 'euler'
     max_dt                        its default longest step [s]

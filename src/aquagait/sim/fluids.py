@@ -6,7 +6,7 @@ stable step); this module builds on ``scene``, never the other way.
 
 Three are here, each registered in ``FLUIDS`` by its name. ``Vacuum``: the
 body moves under its own joint forces alone. ``SimpleFluid`` (paper §7,
-DESIGN.md §2.6): no grid; every surface patch that moves into the still
+docs/compare-fluids.md): no grid; every surface patch that moves into the still
 water feels the quadratic drag ``-k rho A v_n^2 n`` (``aquagait.drag``),
 added explicitly to the joint forces of a vacuum step. ``EulerFluid``: the
 inviscid fluid of ``aquagait.fluid``, two-way coupled through one pressure
@@ -291,7 +291,7 @@ class EulerFluid:
         return replace(state, velocity=velocity, pressure=grid.zeros_cells(), grid=grid)
 
     def step(self, scene: Scene, state: State, dt: float, policy=None) -> State:
-        """One two-way coupled step (module docstring, DESIGN.md §2.3).
+        """One two-way coupled step (module docstring; docs/method-coupling.md).
 
         Raises:
             BodyNotOnGrid: the boundary finds no cell or face of the grid in the body.

@@ -2,9 +2,9 @@
 
 A servo on a joint drives the joint's links and, in water, the water they
 push: at rest that water acts as an added mass ``M_a`` (nv x nv; potential
-flow, DESIGN.md §2.3), so the joint's apparent inertia, all other DOFs free,
-is ``1/((M + M_a)^-1)_ii`` rather than the vacuum's ``1/(M^-1)_ii``. The
-coupled solve conserves the momentum of fluid plus body
+flow, docs/method-coupling.md), so the joint's apparent inertia, all other
+DOFs free, is ``1/((M + M_a)^-1)_ii`` rather than the vacuum's
+``1/(M^-1)_ii``. The coupled solve conserves the momentum of fluid plus body
 (``aquagait.coupling``): a generalized impulse ``j e_i`` given to the body
 at rest in still water leaves it moving at ``j (M + M_a)^-1 e_i``, the water
 around it carrying the rest. So one step from rest per DOF, under a force

@@ -1,4 +1,4 @@
-"""Massless particles carried by the recorded flow, for traces (DESIGN.md §2.7, paper §7).
+"""Massless particles carried by the recorded flow, for traces (docs/pictures.md, paper §7).
 
 The flow is a ``FluidFrames``: per frame f, velocity at the cell centres of a
 lattice (2D or 3D) whose lower corner sits at ``origin[f]`` (the grid follows
@@ -117,7 +117,7 @@ def particle_traces(
         fluid: the recorded flow, F frames.
         time: (F,) frame times [s].
         per_cell: particles per cell of the lattice (when ``count`` is None).
-        length: frames per trace (DESIGN.md §2.7: 15).
+        length: frames per trace (docs/pictures.md: 15).
         substeps: RK2 steps between two frames.
         seed: seeds the particles' random placement.
         count: the number of particles, instead of ``per_cell``.
@@ -167,7 +167,7 @@ def wake(
     margin: float = 0.5,
     axis: int = 2,
 ) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """A swim's wake: particle traces, their opacity and spin, frame by frame (DESIGN.md §2.7).
+    """A swim's wake: particle traces, their opacity and spin, frame by frame (docs/pictures.md).
 
     ``count`` particles are seeded in the body's bounding box grown by
     ``margin`` body lengths on every side and live ``lifetime`` frames. A

@@ -79,7 +79,7 @@ def rollout(
             the Euler fluid, steps also keep to the CFL limit (the fastest
             fluid or body surface moves at most one cell). Steps are shortened
             so that frames fall exactly on k / fps.
-        fps: frames per second recorded (DESIGN.md: 30).
+        fps: frames per second recorded (30 by default, as docs/swim.md says).
         progress: optional ``progress(frames_done, frames_total)``, called
             after every frame (for progress bars).
         record_fluid: keep the fluid of every frame (for pictures);

@@ -1,4 +1,4 @@
-"""A fixed ``Scene`` and a changing ``State`` (STYLE.md §3), and how to make them (DESIGN.md §4).
+"""A fixed ``Scene`` and a changing ``State``, and how to make them (docs/development.md).
 
 The scene holds the creature, its dynamics, the water's density, a grid and
 a fluid model (``aquagait.sim.fluids``): ``Vacuum()``, ``SimpleFluid()`` or

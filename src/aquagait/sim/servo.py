@@ -1,6 +1,7 @@
 """The body's half of every step: the policy's force, the stable PD prediction, the work done.
 
-The controller seam (STYLE.md §6). A *policy* is any callable
+The controller seam (docs/development.md, "How the code reads"). A *policy*
+is any callable
 
     policy(t, q, qd) -> tau    # (nv,) generalized force [N or N m]
 
@@ -19,9 +20,9 @@ so that with ``tau = -Kp (q - qbar) - Kd qd`` the servo reads its position
 error theta of the way through the step (``aquagait.control.discretization``
 derives theta and D so that the step follows the continuous servo). A policy
 with a ``damping`` attribute (nv,) instead is the special case ``theta = 1,
-D = damping``: Tan et al.'s stable PD (paper §3.2, DESIGN.md §2.2), evaluated
-only at the end of the step. The force actually applied is ``tau - D
-(qd^{n+1} - qd^n)``; the step records it and adds ``|tau_i qd_i| dt`` per
+D = damping``: Tan et al.'s stable PD (paper §3.2, docs/method-bodies.md),
+evaluated only at the end of the step. The force actually applied is ``tau -
+D (qd^{n+1} - qd^n)``; the step records it and adds ``|tau_i qd_i| dt`` per
 DOF to the energy. ``policy=None`` applies nothing. ``aquagait.control``
 provides such policies; this package never imports it.
 
@@ -105,7 +106,10 @@ def servo_mass(scene: Scene, q, dt: float, damping) -> np.ndarray:
 
 
 def predict_body(scene: Scene, state: State, dt: float, tau, damping) -> np.ndarray:
-    """Accelerations qdd (nv,) from ``(M + dt D) qdd = tau - c`` (DESIGN.md §2.2, step 2)."""
+    """Accelerations qdd (nv,) from ``(M + dt D) qdd = tau - c``.
+
+    Step 3 of the coupled step (docs/method-coupling.md, "The coupled step").
+    """
     mass = servo_mass(scene, state.qpos, dt, damping)
     force = tau - scene.dynamics.bias(state.qpos, state.qvel)
     try:
@@ -127,7 +131,7 @@ def account_work(state: State, dt: float, tau, damping, qvel):
     The implicit damping adds ``-D (qd^{n+1} - qd^n)`` to the policy's force
     (``-dt D qdd``); the work is counted as ``|tau_i qd_i| dt`` with the
     velocity that moves the positions, so spending and braking both cost
-    (DESIGN.md §2.4, E_energy).
+    (docs/method-search.md, E_energy).
     """
     applied = tau - damping * (qvel - state.qvel)
     return applied, state.energy + dt * np.abs(applied * qvel)

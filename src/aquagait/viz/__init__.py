@@ -1,11 +1,12 @@
-"""Pictures and videos of swims (DESIGN.md §2.7, §3); the ``viz`` extra.
+"""Pictures and videos of swims (docs/pictures.md); the ``viz`` extra.
 
     from aquagait.viz import render_swim
     render_swim(trajectory, creature.model, "runs/eel2d/swim.mp4")
 
 Reads Trajectory only; matplotlib, imageio and moderngl (3D, the ``render``
 extra) are imported inside the functions that draw, so importing this
-package needs none of them.
+package needs none of them. Only the jobs import it (docs/development.md,
+"Layers").
 """
 
 from aquagait.viz.compare import plot_displacement, render_side_by_side

@@ -1,4 +1,4 @@
-"""The headless 3D renderer: the creature shaded, particle traces over it (DESIGN.md §7).
+"""The headless 3D renderer: the creature shaded, particle traces over it (docs/pictures.md).
 
 OpenGL through EGL with Mesa's software rasterizer (llvmpipe), driven by
 moderngl, the ``render`` extra; moderngl is imported only when a context is

@@ -1,4 +1,4 @@
-"""2D swim pictures: vorticity, the body and particle traces, frame by frame (DESIGN.md §2.7).
+"""2D swim pictures: vorticity, the body and particle traces, frame by frame (docs/pictures.md).
 
 Each picture shows the recorded fluid (``Trajectory.fluid``, the whole grid)
 as the camera sees it, following the grid as it moves with the creature:
@@ -54,7 +54,7 @@ class Look:
     Attributes:
         pixels_per_cell: picture pixels per fluid cell; None: the plane's long
             side gets about ``WIDTH`` pixels.
-        trace_frames: frames per particle trace (DESIGN.md §2.7: 15).
+        trace_frames: frames per particle trace (docs/pictures.md: 15).
         particles_per_cell: particle density.
         substeps: RK2 steps per frame for the particles.
         vorticity_scale: |vorticity| [1/s] at full colour; None: the 99.5th

@@ -1,4 +1,4 @@
-"""The swim's pictures and the files they go to (DESIGN.md §2.7, §7).
+"""The swim's pictures and the files they go to (docs/pictures.md).
 
     from aquagait.viz import render_swim
     render_swim(trajectory, creature.model, "runs/fish/swim.mp4", view="side")

@@ -1,5 +1,5 @@
 """3D swim pictures: the creature shaded, its wake as vortex surfaces and particle traces
-(DESIGN.md §2.7, §7).
+(docs/pictures.md).
 
 Each picture is drawn by ``aquagait.viz.gl`` (OpenGL through EGL, Mesa's
 software renderer, no screen):
@@ -92,7 +92,7 @@ class Look3D:
         width, height: picture size [pixels] (even, as H.264 wants).
         wake: 'both', 'q' (vortex surfaces) or 'traces' (module docstring).
         q_fraction: the vortex surfaces' threshold, a share of the swim's peak Q.
-        trace_frames: frames per particle trace (DESIGN.md §2.7: 15).
+        trace_frames: frames per particle trace (docs/pictures.md: 15).
         particles: how many particles.
         lifetime: frames a particle lives before it is seeded again near the body.
         substeps: RK2 steps per frame for the particles.
