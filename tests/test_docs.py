@@ -1,5 +1,6 @@
-"""The documentation: the site builds strictly, its Python blocks run, its references are
-made from the code, and every public name has a docstring."""
+"""The documentation: the site builds strictly, its references are made from the code, and
+every public name has a docstring. (Its Python blocks run and its commands parse:
+tests/test_docs_examples.py.)"""
 
 import importlib
 import inspect
@@ -12,35 +13,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGES = sorted((ROOT / "docs").glob("*.md")) + [ROOT / "README.md"]
-NOT_RUN = "<!-- not run -->"
-"""A Python block right after this line is shown, not run (it needs a cluster, say)."""
 PUBLIC = ("aquagait", "aquagait.sim", "aquagait.creatures", "aquagait.optimize",
           "aquagait.io.export", "aquagait.envs")  # fmt: skip
 """The modules whose public names the API reference documents."""
-
-
-def python_blocks():
-    """(page, first line, code) of every fenced Python block meant to run."""
-    blocks = []
-    for page in PAGES:
-        text = page.read_text()
-        for match in re.finditer(r"^```python\n(.*?)^```", text, re.S | re.M):
-            before = text[: match.start()].rstrip().splitlines()
-            if before and before[-1].strip() == NOT_RUN:
-                continue
-            line = text.count("\n", 0, match.start()) + 1
-            blocks.append(pytest.param(page, match.group(1), id=f"{page.name}:{line}"))
-    return blocks
-
-
-@pytest.mark.parametrize("page, code", python_blocks())
-def test_the_python_blocks_of_the_docs_run(page, code, tmp_path):
-    if "gymnasium" in code:
-        pytest.importorskip("gymnasium")
-    done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
-                          text=True, timeout=300)  # fmt: skip
-    assert done.returncode == 0, f"{page.name}:\n{code}\n{done.stderr}"
 
 
 def test_the_site_builds_strictly(tmp_path):
