@@ -1,8 +1,9 @@
-"""The documentation: the site builds strictly, its references are made from the code, and
-every public name has a docstring. (Its Python blocks run and its commands parse:
-tests/test_docs_examples.py.)"""
+"""The documentation: the site builds strictly, its references are made from the code, every
+public name has a docstring and a place in the API reference. (Its Python blocks run and
+its commands parse: tests/test_docs_examples.py.)"""
 
 import importlib
+import importlib.util
 import inspect
 import os
 import re
@@ -14,25 +15,79 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PUBLIC = ("aquagait", "aquagait.sim", "aquagait.creatures", "aquagait.optimize",
-          "aquagait.io.export", "aquagait.envs")  # fmt: skip
-"""The modules whose public names the API reference documents."""
+          "aquagait.app", "aquagait.metrics", "aquagait.io", "aquagait.io.export",
+          "aquagait.envs")  # fmt: skip
+"""The modules whose public names the API reference documents (docs/api/*.md)."""
 
 
-def test_the_site_builds_strictly(tmp_path):
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """The site, built once with ``mkdocs build --strict`` into a temporary directory."""
     for module in ("mkdocs", "material", "mkdocstrings"):
         pytest.importorskip(module, reason="the docs extra: pip install -e '.[docs]'")
+    out = tmp_path_factory.mktemp("site")
     done = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path)],
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
         cwd=ROOT, capture_output=True, text=True, timeout=600,
         env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
     )  # fmt: skip
     assert done.returncode == 0, done.stderr[-4000:]
-    for page in ("index", "getting-started", "cli", "gallery", "api/sim"):
-        assert (tmp_path / f"{page}.html").is_file()
-    cli = (tmp_path / "cli.html").read_text()
+    return out
+
+
+def test_the_site_builds_strictly(site):
+    for page in ("index", "getting-started", "cli", "gallery", "api/sim", "api/app"):
+        assert (site / f"{page}.html").is_file()
+    cli = (site / "cli.html").read_text()
     assert "aquagait swim" in cli and "--wake" in cli  # made from the parser
-    api = (tmp_path / "api" / "sim.html").read_text()
-    assert "rollout" in api and "Trajectory" in api  # made from the docstrings
+    api = (site / "api" / "sim.html").read_text()
+    assert 'id="aquagait.sim.rollout.rollout"' in api  # the function, not its module
+    assert 'id="aquagait.sim.Trajectory"' in api  # made from the docstrings
+
+
+def module_names(module) -> list[str]:
+    """A module's public names: its ``__all__``, or else the classes and functions it
+    defines whose names do not start with an underscore."""
+    if hasattr(module, "__all__"):
+        return list(module.__all__)
+    return [
+        name
+        for name, obj in vars(module).items()
+        if not name.startswith("_")
+        and (inspect.isclass(obj) or inspect.isfunction(obj))
+        and obj.__module__ == module.__name__
+    ]
+
+
+def test_every_public_name_is_in_the_api_reference(site):
+    """Each public name of ``PUBLIC`` has a heading on an API page (``docs/api/*.md``): its
+    anchor is the name as imported (``aquagait.sim.make_scene``), or, for a class or a
+    function, the path of its definition (``aquagait.sim.rollout.rollout``, where the
+    module of the same name hides the function), or, for a module, the module's own
+    name. A name that starts with an underscore (``__version__``), which the reference's
+    filter leaves out, must be named in the text of a page."""
+    pages = sorted((site / "api").glob("*.html"))
+    text = "\n".join(page.read_text() for page in pages)
+    anchors = set(re.findall(r'\bid="([^"]+)"', text))
+    missing = []
+    for module_name in PUBLIC:
+        if module_name == "aquagait.envs" and importlib.util.find_spec("gymnasium") is None:
+            continue  # the gym extra is not installed
+        module = importlib.import_module(module_name)
+        for name in module_names(module):
+            obj = getattr(module, name)
+            if name.startswith("_"):
+                found = f"{module_name}.{name}" in text
+            else:
+                paths = {f"{module_name}.{name}"}
+                if inspect.isclass(obj) or inspect.isfunction(obj):
+                    paths.add(f"{obj.__module__}.{obj.__qualname__}")
+                elif inspect.ismodule(obj):
+                    paths.add(obj.__name__)
+                found = bool(paths & anchors)
+            if not found:
+                missing.append(f"{module_name}.{name}")
+    assert not missing, f"public names missing from docs/api/*.md: {', '.join(missing)}"
 
 
 def test_the_cli_reference_has_every_command_and_option():
@@ -72,7 +127,7 @@ def test_the_gallery_has_each_creature_with_its_picture_and_rows():
 def public_names():
     for module in PUBLIC:
         mod = importlib.import_module(module)
-        for name in mod.__all__:
+        for name in module_names(mod):
             obj = getattr(mod, name)
             if inspect.isclass(obj) or inspect.isfunction(obj):
                 yield pytest.param(obj, id=f"{module}.{name}")

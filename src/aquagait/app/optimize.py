@@ -294,7 +294,8 @@ def prepare_optimization(
         popsize: samples per generation; None: CMA-ES's ``4 + floor(3 ln n)`` for
             the ``n`` parameters of each group (``aquagait.optimize.default_popsize``).
         seed: random seed: the same seed gives the same gait, serial or parallel.
-        resolution, cell_size: the fluid grid; default the creature's.
+        resolution: the fluid grid's cells per axis; default the creature's.
+        cell_size: the fluid grid's cell size h [m]; default the creature's.
         fluid: 'euler', 'simple' or 'none'.
         cycles: gait cycles simulated per sample; None: ``DEFAULT_CYCLES`` (distance)
             or ``EFFICIENCY_CYCLES`` (efficiency).

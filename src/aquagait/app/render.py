@@ -64,8 +64,10 @@ def prepare_render(
     Args:
         run_dir: a run directory written by ``aquagait swim`` (or optimize, compare).
         format: 'mp4', 'gif' or 'png' (``aquagait.viz.render_swim``).
-        view, wake, size: 3D only (``picture_look``); default the creature's view,
-            both wakes, 1280x720.
+        view: 3D only (``picture_look``): the camera; default the creature's view.
+        wake: 3D only: the wake drawn, 'both' (default), 'q' (vortex surfaces) or
+            'traces'.
+        size: 3D only: the picture's width and height; default 1280x720.
         frames: 'A:B' (Python slice, either end optional), a ``range``, or None for all.
         out: the file to write; default ``RUN_DIR/swim[-VIEW].FORMAT`` (the view's
             name when it is not the creature's own).

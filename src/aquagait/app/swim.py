@@ -145,8 +145,11 @@ def prepare_swim(
         fps: frames per second recorded.
         maneuver: swim this learned manoeuvre's shipped gait (``turn-left``, ...)
             instead of the default one; not with ``gait``.
-        view, wake, size: how a 3D swim's video is drawn (``picture_look``): default
-            the creature's view, both wakes, 1280x720.
+        view: the camera of a 3D swim's video (``picture_look``); default the
+            creature's view.
+        wake: the wake a 3D swim's video draws, 'both' (default), 'q' (vortex surfaces)
+            or 'traces'.
+        size: a 3D swim's video's width and height; default 1280x720.
         keep_course: keep to the line ahead of the start (+x) by mixing shares of the
             creature's learned manoeuvres into the gait (``aquagait.app.course``); each
             manoeuvre's turn a cycle is measured first, by a two-cycle swim.

@@ -89,7 +89,8 @@ def end_of_step(kp, kd, inertia, dt: float) -> ServoStep:
     """Tan et al.'s stable PD: the servo at the end of the step, ``D = Kd`` (module docstring).
 
     Args:
-        kp, kd: (nv,) gains [N m/rad], [N m s/rad].
+        kp: (nv,) stiffness [N m/rad].
+        kd: (nv,) damping [N m s/rad].
         inertia: (nv,) unused (the form does not depend on it).
         dt: the step [s].
     """
@@ -101,7 +102,8 @@ def sampled(kp, kd, inertia, dt: float) -> ServoStep:
     """The step whose servo follows the continuous servo's samples (module docstring).
 
     Args:
-        kp, kd: (nv,) gains [N m/rad], [N m s/rad], >= 0.
+        kp: (nv,) stiffness [N m/rad], >= 0.
+        kd: (nv,) damping [N m s/rad], >= 0.
         inertia: (nv,) the inertia each servo is matched for [kg m^2 or kg],
             > 0 where a gain is not zero.
         dt: the step [s], > 0.

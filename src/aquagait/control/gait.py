@@ -354,7 +354,8 @@ class GaitSpec:
 
         Args:
             x: (size,) parameter vector.
-            lower, upper: (n,) joint limits of ``dofs`` [rad].
+            lower: (n,) lower joint limits of ``dofs`` [rad].
+            upper: (n,) upper joint limits of ``dofs`` [rad].
 
         Returns:
             One message per offending DOF; empty when the gait is admissible.

@@ -126,7 +126,10 @@ class StablePD(PD):
     implicit damping D [N m s/rad] it adds to the mass as ``M + dt D``.
 
     Args:
-        model, gait, kp, kd: as ``PD``.
+        model: as ``PD``.
+        gait: as ``PD``.
+        kp: as ``PD``.
+        kd: as ``PD``.
         inertia: (nv,) the nominal inertia each servo's step is matched for
             [kg m^2 or kg]; default ``apparent_inertia(model)`` (the one
             ``tuned`` sets the gains about). Only ``sampled`` uses it.

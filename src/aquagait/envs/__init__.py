@@ -34,6 +34,7 @@ from aquagait.envs.swim import SwimEnv
 from aquagait.envs.tasks import TASKS
 
 ENV_ID = "aquagait/Swim-v0"
+"""The id ``gymnasium.make`` knows ``SwimEnv`` by, registered on import."""
 
 if ENV_ID not in gymnasium.registry:
     gymnasium.register(id=ENV_ID, entry_point="aquagait.envs.swim:SwimEnv")

@@ -39,6 +39,7 @@ import numpy as np
 from aquagait.path import parse_path
 
 TASKS = ("forward", "target", "follow")
+"""The tasks ``SwimEnv(task=...)`` knows (``make_task``)."""
 
 REACHED = 0.5
 """Default radius of ``target`` and of the end of ``follow``, in body lengths."""

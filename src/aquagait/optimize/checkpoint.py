@@ -28,8 +28,15 @@ import numpy as np
 from aquagait.optimize.problem import Problem, Settings
 
 CHECKPOINT = "checkpoint.pkl"
+"""The checkpoint's file name in the run directory (``load``, ``save``)."""
+
 LOG = "optimization.csv"
+"""The log's file name: a row per generation, its columns ``LOG_COLUMNS``."""
+
 FAILURES = "failures.csv"
+"""The penalized samples' file name: a row each, its columns ``FAILURE_COLUMNS`` and the
+parameters."""
+
 FORMAT = 1  # bump when the checkpoint's layout changes
 
 LOG_COLUMNS = (

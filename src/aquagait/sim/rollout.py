@@ -14,6 +14,7 @@ from aquagait.sim.frames import FluidFrames, fluid_frame, fluid_frames, stride
 from aquagait.sim.scene import Scene, State
 
 FRAMES_PER_SECOND = 30
+"""Frames a ``rollout`` records per second unless told (``fps``)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,7 +74,9 @@ def rollout(
     """Simulate ``seconds`` [s] from ``state`` and sample frames.
 
     Args:
-        scene, state, policy: as for ``step``.
+        scene: the fixed scene, as for ``step``.
+        state: the state to start from.
+        policy: the controller, as for ``step`` (``aquagait.sim.servo``).
         seconds: duration [s].
         dt: largest time step [s]; default the fluid model's ``max_dt``. In
             the Euler fluid, steps also keep to the CFL limit (the fastest
