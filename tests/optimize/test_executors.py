@@ -15,6 +15,7 @@ import sys
 import threading
 import time
 from concurrent.futures.process import BrokenProcessPool
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -200,10 +201,13 @@ def test_dask_gives_the_same_result_as_serial(dask_cluster):
     from distributed import Client
 
     serial = optimize(PROBLEM, SETTINGS)
+    modelled = replace(SETTINGS, surrogate=True, surrogate_batch=2)  # lq-CMA-ES too
+    serial_modelled = optimize(PROBLEM, modelled)
     with dask_executor(dask_cluster.address) as executor:
         executor.client.wait_for_workers(2, timeout=30)
         assert executor.workers == 2
         same_run(serial, optimize(PROBLEM, SETTINGS, executor))
+        same_run(serial_modelled, optimize(PROBLEM, modelled, executor))
     with Client(dask_cluster.address, timeout=30, set_as_default=False) as client:
         same_run(serial, optimize(PROBLEM, SETTINGS, client))  # a Client itself will do
 
