@@ -148,7 +148,7 @@ def _default_searches(creature: str, seeds: int, rate: dict, out: TextIO) -> lis
                   f"{minutes:>9.1f}{result.best_f:>10.4g}  {result.stopped}", file=out,
                   flush=True)  # fmt: skip
     plain, modelled = ([row for row in rows if row["search"] == s] for s in SEARCHES)
-    samples, minutes, best = (statistics.median(row[k] for row in plain) for k in _MEDIANS)
+    samples, minutes, best = _medians(plain)
     paper_samples = POPULATION[setup.creature.dim] * GENERATIONS
     paper = paper_samples / rate["target"]
     goal = TARGET_MINUTES.get(creature)
@@ -157,8 +157,7 @@ def _default_searches(creature: str, seeds: int, rate: dict, out: TextIO) -> lis
           f"paper's budget ({paper_samples} samples) {paper:.1f} min at this run's rate: "
           f"{paper / minutes:.1f}x the time, {paper_samples / samples:.1f}x the samples",
           file=out)  # fmt: skip
-    m_samples, m_minutes, m_best = (statistics.median(row[k] for row in modelled)
-                                    for k in _MEDIANS)  # fmt: skip
+    m_samples, m_minutes, m_best = _medians(modelled)
     worse = (m_best - best) / abs(best) if best else math.nan  # > 0: a worse (higher) best
     quality = "met" if worse <= QUALITY else "missed"
     print(f"surrogate search: median {m_samples:.0f} samples ({samples / m_samples:.2f}x "
@@ -166,12 +165,17 @@ def _default_searches(creature: str, seeds: int, rate: dict, out: TextIO) -> lis
           f"{_verdict(m_minutes, goal)}; median best {m_best:.4g} against {best:.4g}, "
           f"{100 * worse:+.2f} % (target within +{100 * QUALITY:g} %: {quality})",
           file=out)  # fmt: skip
-    _draw(creature, {search: [row["log"] for row in rows if row["search"] == search]
-                     for search in SEARCHES}, runs / "convergence.png", out)  # fmt: skip
+    logs = {search: [row["log"] for row in runs_of] for search, runs_of in
+            zip(SEARCHES, (plain, modelled), strict=True)}  # fmt: skip
+    _draw(creature, logs, runs / "convergence.png", out)
     return rows
 
 
-_MEDIANS = ("samples", "minutes", "best")
+def _medians(rows: list[dict]) -> tuple[float, float, float]:
+    """Median samples, minutes and best objective of the searches in ``rows``."""
+    return tuple(statistics.median(row[k] for row in rows) for k in ("samples", "minutes", "best"))
+
+
 QUALITY = 0.005
 """The surrogate's median best may be this much worse than the default's (a share of it)."""
 

@@ -26,8 +26,6 @@ import numpy as np
 SAMPLES_PER_METRE = 200
 """Polyline points per metre of a named shape: 5 mm apart."""
 
-SHAPES = ("line", "circle", "s-curve")
-
 
 class PathError(ValueError):
     """A path that cannot be followed: the message says what is wrong and what would be right."""
@@ -217,6 +215,8 @@ def _parameters(name: str) -> dict[str, object]:
 
 
 _MAKERS = {"line": line, "circle": circle, "s-curve": s_curve}
+SHAPES = tuple(_MAKERS)
+"""The named shapes, as the command line writes them."""
 
 
 def read_path(file, dim: int) -> Path:
