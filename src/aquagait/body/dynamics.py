@@ -61,6 +61,29 @@ def compile_mjcf(path: str | Path | None = None, xml: str | None = None):
     return mj
 
 
+def compose_mjcf(parts):
+    """One MuJoCo model of several MJCF trees under one world, each renamed ``LABEL/NAME``.
+
+    The trees keep their order, so part ``i``'s links, joints, positions and
+    velocities follow part ``i - 1``'s, each in its own order; their mass
+    matrix is block-diagonal (nothing joins them).
+
+    Args:
+        parts: ``(label, mjcf_text)`` pairs, each a model with one root body
+            (``Model.mjcf``).
+
+    Returns:
+        ``(mj, xml)``: the compiled model with gravity off, and its MJCF text.
+    """
+    spec = mujoco.MjSpec()
+    spec.option.gravity = [0.0, 0.0, 0.0]
+    for label, xml in parts:
+        child = mujoco.MjSpec.from_string(xml)
+        spec.worldbody.add_frame().attach_body(child.worldbody.first_body(), f"{label}/", "")
+    mj = spec.compile()
+    return mj, spec.to_xml()
+
+
 @dataclass(frozen=True)
 class CompiledFacts:
     """What the model loader needs to know of a compiled MJCF, at ``q = qpos0``.
@@ -123,9 +146,12 @@ def _names(mj, objtype, count: int) -> tuple[str, ...]:
     return tuple(mujoco.mj_id2name(mj, objtype, i) or "" for i in range(count))
 
 
-def describe(mj) -> CompiledFacts:
-    """The facts of a compiled model at its reference pose ``qpos0`` (see CompiledFacts)."""
+def describe(mj, qpos=None) -> CompiledFacts:
+    """The facts of a compiled model at its reference pose ``qpos0`` (see CompiledFacts), or
+    with its links and geoms at ``qpos`` (nq,) where given."""
     data = mujoco.MjData(mj)
+    if qpos is not None:
+        data.qpos[:] = qpos
     mujoco.mj_kinematics(mj, data)
     vertices = []
     for g in range(mj.ngeom):

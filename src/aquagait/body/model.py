@@ -42,7 +42,7 @@ element and what would be right, before MuJoCo's dynamics is ever called.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -153,6 +153,9 @@ class Model:
         visuals: per link, its visual-only geoms (module doc), in the link's
             frame, for pictures only: not in ``mj``; () for a link without
             (every link of most models).
+        mjcf: the MJCF text ``mj`` was compiled from (the fluid's shape, turned to
+            face +x), for composing several creatures into one model
+            (``aquagait.body.group``).
     """
 
     source: str
@@ -176,6 +179,7 @@ class Model:
     forward: tuple[float, float, float] = (1.0, 0.0, 0.0)
     planar: bool = False
     visuals: tuple[tuple[VisualGeom, ...], ...] = ()
+    mjcf: str = field(default="", repr=False)
 
     @property
     def nq(self) -> int:
@@ -256,11 +260,13 @@ def load_model(
             f"forward is the model's {direction_label(heading)} ({why}): turned to face +x, "
             "aquagait's forward, so positions in its swims are in the turned frame"
         )
-        mj = compile_mjcf(xml=turn_root(xml, facts, _turning(heading)))
+        xml = turn_root(xml, facts, _turning(heading))
+        mj = compile_mjcf(xml=xml)
         facts = describe(mj)
     forward = tuple(float(v) for v in heading)
-    return _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward, planar,
-                  visuals)  # fmt: skip
+    model = _build(mj, facts, source, dim, depth, root, ranges, tuple(notes), forward, planar,
+                   visuals)  # fmt: skip
+    return replace(model, mjcf=xml)
 
 
 def _drawn_only(xml, mj, facts, notes):

@@ -77,6 +77,12 @@ class SineGait:
         """The gait with every reference angle negated: the mirror image for yaw joints."""
         return SineGait(self.dofs, -self.amplitude, self.phase, self.period, -self.offset)
 
+    def lagging(self, cycles: float) -> SineGait:
+        """The same gait ``cycles`` of its longest period later: ``qbar'(t) = qbar(t - cycles
+        T)`` (a follower's phase offset in a group, ``aquagait swim --phase``)."""
+        lag = 2 * np.pi * cycles * np.max(self.period) / self.period
+        return replace(self, phase=np.asarray(self.phase) - lag)
+
     def on(self, dofs) -> SineGait:
         """The same references over ``dofs`` (a superset of ``self.dofs``, in any order);
         a DOF it does not drive is held at 0 rad, as a servo holds an undriven DOF."""

@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from aquagait.sim.frames import FluidFrames, fluid_frame, fluid_frames, stride
+from aquagait.sim.group import check_apart
 from aquagait.sim.scene import Scene, State
 
 FRAMES_PER_SECOND = 30
@@ -54,10 +55,13 @@ def step(scene: Scene, state: State, dt: float, policy=None) -> State:
         The state at t + dt.
     Raises:
         aquagait.sim.SimulationError: the simulation cannot go on (it diverged,
-            or the body outgrew the grid); the message says when and why.
+            the body outgrew the grid, or two creatures of a group touched:
+            ``aquagait.sim.group.CreaturesTouched``); the message says when and why.
     """
     _check_dt(dt)
-    return scene.fluid.step(scene, state, dt, policy)
+    state = scene.fluid.step(scene, state, dt, policy)
+    check_apart(scene, state)
+    return state
 
 
 def rollout(

@@ -17,8 +17,10 @@ from functools import cached_property
 import numpy as np
 
 from aquagait.body.dynamics import Dynamics
+from aquagait.body.group import Group, member_gaps, refuse_overlap
 from aquagait.body.model import Model
 from aquagait.body.shape import BodyShape, body_shape
+from aquagait.body.surface import Surface, body_surface
 from aquagait.grid import Grid
 from aquagait.sim.fluid_model import FLUIDS, FluidModel, fluid_model
 from aquagait.sim.memory import available_memory, check_memory
@@ -39,6 +41,8 @@ class Scene:
             when no resolution and cell size are known (a bare model in vacuum
             or the simple fluid; there it only frames pictures).
         density: fluid density rho [kg/m^3] (water).
+        group: the creatures ``model`` is composed of, when it is a group
+            (``aquagait.body.group``; ``aquagait.sim.group``); None for one creature.
     """
 
     model: Model
@@ -46,6 +50,7 @@ class Scene:
     fluid: FluidModel
     grid: Grid | None = None
     density: float = 1000.0
+    group: Group | None = None
 
     @cached_property
     def shape(self) -> BodyShape | None:
@@ -56,6 +61,17 @@ class Scene:
         measures the same body in every fluid.
         """
         return None if self.grid is None else body_shape(self.model, self.grid.cell_size)
+
+    @cached_property
+    def member_surfaces(self) -> tuple[tuple[Surface, ...], BodyShape | None]:
+        """What ``aquagait.sim.group`` measures the gaps between a group's members on: each
+        member's surface patches, in its own links, and the group's shape (the grid's, else
+        sampled at a twentieth of the shortest member); ``((), None)`` for one creature."""
+        if self.group is None:
+            return (), None
+        members = self.group.members
+        shape = self.shape or body_shape(self.model, min(m.model.body_length for m in members) / 20)
+        return tuple(body_surface(m.model) for m in members), shape
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,7 +115,9 @@ def make_scene(
     Args:
         creature_or_model: a ``Model``, or a creature (anything with ``model``,
             ``resolution`` and ``cell_size`` attributes, e.g.
-            ``aquagait.creatures.get("eel2d")``).
+            ``aquagait.creatures.get("eel2d")``), or a ``Group`` of creatures
+            (``aquagait.body.group.compose``; give its resolution and cell size,
+            or use ``aquagait.sim.group.group_scene``).
         resolution: cells per axis, (nx, ny) in 2D or (nx, ny, nz) in 3D;
             default: the creature's.
         cell_size: h [m]; default: the creature's.
@@ -122,8 +140,13 @@ def make_scene(
         GridTooLarge: a ValueError (``aquagait.sim.memory``): the fluid on
             this grid would take more memory than the machine has available
             (``FluidModel.memory``); checked before anything is allocated.
+        GroupError: a ValueError (``aquagait.body.group``): creatures of a group
+            that overlap at their starting poses (which two, how deep).
     """
-    model, default_res, default_h = _unpack_creature(creature_or_model)
+    group = creature_or_model if isinstance(creature_or_model, Group) else None
+    model, default_res, default_h = _unpack_creature(
+        creature_or_model if group is None else group.model
+    )
     if drag_coefficient is not None:
         if fluid != "simple":
             raise ValueError("drag_coefficient is the simple fluid's: give fluid='simple'")
@@ -140,7 +163,13 @@ def make_scene(
         memory = getattr(fluid, "memory", None)  # optional in the protocol
         if memory is not None:
             check_memory(grid, memory(grid), available_memory())  # before any allocation
-    return Scene(model, dynamics, fluid.bind(model, grid), grid, float(density))
+    scene = Scene(model, dynamics, fluid.bind(model, grid), grid, float(density), group)
+    if group is not None:
+        surfaces, shape = scene.member_surfaces
+        refuse_overlap(
+            group, member_gaps(group, shape, surfaces, *dynamics.link_poses(model.qpos0))
+        )
+    return scene
 
 
 def _place_grid(model: Model, dynamics: Dynamics, resolution, cell_size, origin) -> Grid:
