@@ -1,15 +1,18 @@
 """NAME or PATH: every job takes a library creature's name or a path to an MJCF file;
 a gait is a ``gait.json`` or the name of a gait the creature ships (``find_gait``);
-a run directory says which creature swam (``run_creature``)."""
+a run directory says which creature (or group) swam (``run_creature``)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from aquagait import creatures
 from aquagait.app.errors import SetupError
+from aquagait.body.group import GroupError, Pose, compose
+from aquagait.body.model import Model
 from aquagait.creatures import Creature
 from aquagait.io.gait import GaitFileError, read_gait
 from aquagait.io.run import Run, read_run
@@ -69,8 +72,9 @@ def find_gait(creature: Creature, gait: str | Path) -> tuple[np.ndarray, str, st
     return found.params, str(gait), found.maneuver, found.free_period
 
 
-def run_creature(run_dir) -> tuple[Run, Creature]:
-    """A run directory read back, and the creature that swam in it.
+def run_creature(run_dir) -> tuple[Run, Creature | Swimmers]:
+    """A run directory read back, and the creature that swam in it (a group's run: its
+    ``Swimmers``, the members composed again).
 
     Raises:
         SetupError: not a run directory, a damaged trajectory, a creature that
@@ -85,6 +89,8 @@ def run_creature(run_dir) -> tuple[Run, Creature]:
             f"{run_dir}: the run cannot be read ({type(err).__name__}: {err}); its "
             "trajectory.npz may be damaged or cut short: swim it again"
         ) from None
+    if "school" in run.config:
+        return run, _school(run)
     source = run.config.get("creature_source") or run.config.get("creature")
     if source is None:
         raise SetupError(f"{run_dir}/config.json does not say which creature swam")
@@ -98,3 +104,32 @@ def run_creature(run_dir) -> tuple[Run, Creature]:
             f"its trajectory {run.trajectory.qpos.shape[1]}: its MJCF changed since the run"
         )
     return run, creature
+
+
+@dataclass(frozen=True)
+class Swimmers:
+    """The creatures of a group's run, as pictures and exports see one creature: ``name``,
+    ``model`` (the composed group, ``aquagait.body.group``), ``view`` (the first member's),
+    ``dim``."""
+
+    name: str
+    model: Model
+    view: str
+    dim: int
+
+
+def _school(run: Run) -> Swimmers:
+    """The group that swam in a run of ``aquagait swim --formation`` or a scene file."""
+    members = run.config["school"]["members"]
+    try:
+        found = [find_creature(m["creature_source"]) for m in members]
+        group = compose([c.model for c in found], [m["label"] for m in members],
+                        [Pose(tuple(m["offset"]), m["heading"]) for m in members])  # fmt: skip
+    except (SetupError, GroupError, KeyError, TypeError) as err:
+        raise SetupError(f"{run.path}: the group that swam cannot be made again: {err}") from None
+    if group.model.nq != run.trajectory.qpos.shape[1]:
+        raise SetupError(
+            f"{run.path}: the group has {group.model.nq} position coordinates but its trajectory "
+            f"{run.trajectory.qpos.shape[1]}: a creature's MJCF changed since the run"
+        )
+    return Swimmers(group.model.source, group.model, found[0].view, group.model.dim)

@@ -17,7 +17,9 @@ def add_parser(commands) -> None:
     swim = commands.add_parser(
         "swim", help="swim a creature with a gait; write trajectory, metrics and video"
     )
-    swim.add_argument("name", metavar="NAME", help=NAME_HELP)
+    swim.add_argument("name", metavar="NAME",
+                      help=f"{NAME_HELP}; or a scene file (SCENE.json) of several creatures, "
+                      "their poses and gaits (docs/schools.md)")  # fmt: skip
     thicken_flag(swim)
     swim.add_argument("--gait", metavar="FILE|NAME", help=GAIT_HELP)
     swim.add_argument("--maneuver", "--manoeuvre", choices=MANEUVERS, metavar="NAME",
@@ -39,13 +41,28 @@ def add_parser(commands) -> None:
         help="cells per axis: NX NY (2D) or NX NY NZ (3D)",
     )
     swim.add_argument("--cell-size", type=float, metavar="H", help="cell size [m]")
-    swim.add_argument("--out", metavar="DIR", help="run directory (default: runs/NAME)")
+    swim.add_argument("--out", metavar="DIR",
+                      help="run directory (default: runs/NAME; a group's runs/NAME-FORMATION "
+                      "or runs/SCENE)")  # fmt: skip
     swim.add_argument("--no-video", action="store_true", help="skip swim.mp4")
+    swim.add_argument("--formation", metavar="KIND[:COUNT]",
+                      help="swim a group of this creature in one fluid: in-line, "
+                      "side-by-side or diamond, optionally :COUNT (default 2, 2, 4); "
+                      "default: one creature")  # fmt: skip
+    swim.add_argument("--spacing", type=float, default=0.5, metavar="BL",
+                      help="a formation's spacing in body lengths: in line the clear water "
+                      "from one's tail to the next one's head, side by side between their "
+                      "axes (default 0.5)")  # fmt: skip
+    swim.add_argument("--phase", type=float, default=0.0, metavar="CYCLES",
+                      help="a formation's phase offset: each creature's gait lags the one "
+                      "before by this many cycles (default 0)")  # fmt: skip
     look_flags(swim)
     swim.set_defaults(run=run)
 
 
 def run(args) -> int:
+    if args.formation is not None or args.name.endswith(".json"):
+        return run_group(args)
     from aquagait.app import SetupError, output_directory, prepare_swim
 
     try:
@@ -87,4 +104,55 @@ def swim_and_write(setup, out: Path, video: bool, extra_config=None, notes=None)
     except RenderUnavailable as err:
         print(f"aquagait: the video is skipped, the run is kept: {err}", file=sys.stderr)
     print(swim_summary(run, out))
+    return 0
+
+
+def run_group(args) -> int:
+    """``aquagait swim NAME --formation ...`` or ``aquagait swim SCENE.json``: a group."""
+    from aquagait.app import RenderUnavailable, SetupError, output_directory
+    from aquagait.app.school import (
+        formation_members,
+        prepare_school,
+        read_scene_file,
+        run_school,
+        school_summary,
+        write_school,
+    )
+    from aquagait.sim import SimulationError
+
+    try:
+        if args.maneuver or args.keep_course:
+            raise SetupError(
+                "--maneuver and --keep-course steer one creature; a group swims straight "
+                "gaits (--gait, or each creature's in the scene file)"
+            )
+        grid = {}
+        if args.formation is not None:
+            members = formation_members(args.name, args.formation, args.spacing, args.phase,
+                                        args.gait)  # fmt: skip
+            formation = {"kind": args.formation, "spacing": args.spacing, "phase": args.phase}
+            label = f"{Path(args.name).stem}-{args.formation.replace(':', '')}"
+        else:
+            if args.gait is not None:
+                raise SetupError("a scene file names each creature's gait: give none with --gait")
+            members, grid = read_scene_file(args.name)
+            formation, label = None, Path(args.name).stem
+        setup = prepare_school(
+            members, seconds=args.seconds, fluid=args.fluid,
+            resolution=args.resolution or grid.get("resolution"),
+            cell_size=args.cell_size or grid.get("cell_size"),
+            view=args.view, wake=args.wake, size=args.size, formation=formation,
+        )  # fmt: skip
+        out = output_directory(args.out or Path("runs") / label)
+    except SetupError as err:
+        return fail("swim", err, status=2)
+    try:
+        run = run_school(setup, progress=ProgressBar("swimming"))
+    except SimulationError as err:
+        return fail("swim", err, status=1)
+    try:
+        write_school(run, out, not args.no_video, progress=ProgressBar("rendering"))
+    except RenderUnavailable as err:
+        print(f"aquagait: the video is skipped, the run is kept: {err}", file=sys.stderr)
+    print(school_summary(run, out))
     return 0
