@@ -263,10 +263,16 @@ def prepare_school(
 
     Args:
         members: ``MemberSpec``s (``formation_members``, ``read_scene_file``).
-        seconds, fluid, dt, fps, view, wake, size: as ``prepare_swim``'s.
-        resolution, cell_size: the grid; default one that holds each member's own
-            default grid at its pose, in the finest of their cells
-            (``aquagait.sim.group.group_grid``).
+        seconds: simulated time [s], > 0.
+        fluid: 'euler', 'simple' or 'none' (see ``aquagait.make_scene``).
+        resolution: cells per axis; default a grid that holds each member's own
+            default grid at its pose (``aquagait.sim.group.group_grid``).
+        cell_size: h [m]; default the finest of the members' cells.
+        dt: largest time step [s], default ``rollout``'s.
+        fps: frames per second recorded.
+        view: a 3D video's camera (``picture_look``); default the first member's view.
+        wake: a 3D video's wake, 'both' (default), 'q' or 'traces'.
+        size: a 3D video's width and height; default 1280x720.
         formation: how the members were made, recorded in ``config.json``.
 
     Raises:

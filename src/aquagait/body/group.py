@@ -275,7 +275,8 @@ def member_gaps(group: Group, shape: BodyShape, surfaces, link_pos, link_rot) ->
         group: the group.
         shape: the group model's body shape.
         surfaces: each member's ``Surface``, in its own links.
-        link_pos, link_rot: the group's link poses (``Dynamics.link_poses``).
+        link_pos: (nlinks, 3) the group's link origins (``Dynamics.link_poses``) [m].
+        link_rot: (nlinks, 3, 3) their rotations.
     """
     pos, rot = checked_pose(shape, link_pos, link_rot)
     arrays = baked_arrays(shape)
