@@ -117,7 +117,7 @@ def make_scene(
             ``resolution`` and ``cell_size`` attributes, e.g.
             ``aquagait.creatures.get("eel2d")``), or a ``Group`` of creatures
             (``aquagait.body.group.compose``; give its resolution and cell size,
-            or use ``aquagait.sim.group.group_scene``).
+            or ``aquagait.sim.group.group_grid`` for one that holds them).
         resolution: cells per axis, (nx, ny) in 2D or (nx, ny, nz) in 3D;
             default: the creature's.
         cell_size: h [m]; default: the creature's.
