@@ -65,7 +65,7 @@ def test_formations_place_their_creatures_as_their_spacing_says():
 
 @pytest.mark.parametrize("formation, message", [
     ("v-shape", "unknown formation 'v-shape'; formations: in-line, side-by-side, diamond"),
-    ("in-line:0", "give a whole number of creatures >= 1"),
+    ("in-line:0", "a whole number of creatures >= 1"),
     ("diamond:3", "a diamond has 4"),
 ])  # fmt: skip
 def test_a_bad_formation_says_what_would_do(formation, message):

@@ -39,7 +39,8 @@ from aquagait.app.errors import SetupError
 from aquagait.app.render import draw_swim, picture_look
 from aquagait.app.resolve import creature_key, find_creature, find_gait
 from aquagait.app.swim import measure, run_config
-from aquagait.body.group import Group, GroupError, Pose, compose
+from aquagait.body.group import FORMATIONS, Group, GroupError, Pose, compose
+from aquagait.body.group import formation as place
 from aquagait.control.group import GroupPolicy
 from aquagait.creatures import Creature
 from aquagait.io.gait import write_gait
@@ -54,11 +55,6 @@ from aquagait.sim import (
     rollout,
 )
 from aquagait.sim.group import group_grid, member_trajectory
-
-FORMATIONS = ("in-line", "side-by-side", "diamond")
-"""The formations ``formation_members`` makes (``aquagait swim --formation``)."""
-
-DEFAULT_COUNT = {"in-line": 2, "side-by-side": 2, "diamond": 4}
 
 SCENE_KEYS = {"name", "label", "offset", "heading", "gait", "phase"}
 """What a scene file may say of each creature."""
@@ -165,30 +161,16 @@ def formation_members(name: str, formation: str, spacing: float = 0.5, phase: fl
             "(optionally :COUNT, e.g. in-line:3)"
         )
     try:
-        n = int(count) if count else DEFAULT_COUNT[kind]
+        n = int(count) if count else FORMATIONS[kind]
     except ValueError:
         n = 0
-    if n < 1 or (kind == "diamond" and n != 4):
-        raise SchoolSetupError(
-            f"formation {formation!r}: give a whole number of creatures >= 1 after the colon"
-            + (" (a diamond has 4)" if kind == "diamond" else "")
-        )
-    if not (np.isfinite(spacing) and spacing > 0):
-        raise SchoolSetupError(f"spacing must be a positive number of body lengths, got {spacing}")
     if not np.isfinite(phase):
         raise SchoolSetupError(f"phase must be a number of cycles, got {phase}")
-    length = find_creature(name).model.body_length
-    along = (1 + spacing) * length  # head to head in line
-    if kind == "in-line":
-        places = [(-k * along, 0.0) for k in range(n)]
-    elif kind == "side-by-side":
-        places = [(0.0, (k - (n - 1) / 2) * spacing * length) for k in range(n)]
-    else:
-        places = [(0.0, 0.0), (-along / 2, spacing * length), (-along / 2, -spacing * length),
-                  (-along, 0.0)]  # fmt: skip
-    rank = [0, 1, 1, 2] if kind == "diamond" else list(range(n))
-    return [MemberSpec(name, None, (x, y, 0.0), 0.0, gait, r * phase)
-            for (x, y), r in zip(places, rank, strict=True)]  # fmt: skip
+    try:
+        places = place(kind, n, spacing, find_creature(name).model.body_length)
+    except GroupError as err:
+        raise SchoolSetupError(f"formation {formation!r}: {err}") from None
+    return [MemberSpec(name, None, pose.offset, 0.0, gait, rank * phase) for pose, rank in places]
 
 
 def read_scene_file(path) -> tuple[list[MemberSpec], dict]:

@@ -31,12 +31,14 @@ from aquagait.body.surface import surface_world
 from aquagait.body.voxelize import baked_arrays, checked_pose, link_distance
 
 __all__ = [
+    "FORMATIONS",
     "Group",
     "GroupError",
     "Member",
     "Pose",
     "compose",
     "deepest_overlap",
+    "formation",
     "member_gaps",
     "posed",
     "refuse_overlap",
@@ -142,6 +144,45 @@ def compose(models, labels=None, poses=None) -> Group:
     qpos0 = np.concatenate([posed(m.model, m.pose) for m in members])
     mj, xml = compose_mjcf([(m.label, m.model.mjcf) for m in members])
     return Group(_group_model(mj, xml, members, qpos0), tuple(members))
+
+
+FORMATIONS = {"in-line": 2, "side-by-side": 2, "diamond": 4}
+"""The formations ``formation`` places, and how many creatures each has by default."""
+
+
+def formation(kind: str, count: int, spacing: float, length: float) -> list[tuple[Pose, int]]:
+    """Where a formation's creatures stand, and each one's rank (0 the leader, 1 the next).
+
+    Args:
+        kind: ``in-line`` (each behind the one before), ``side-by-side`` (abreast)
+            or ``diamond`` (4: a leader, two wings behind it to either side, one last).
+        count: creatures (a diamond has 4).
+        spacing: in body lengths: in line, the clear water from one's tail to the
+            next one's head; side by side, between their axes; in a diamond both.
+        length: the creature's body length [m].
+
+    Raises:
+        GroupError: an unknown kind, a bad count or spacing.
+    """
+    if kind not in FORMATIONS:
+        raise GroupError(f"unknown formation {kind!r}; formations: {', '.join(FORMATIONS)}")
+    if count < 1 or (kind == "diamond" and count != 4):
+        raise GroupError(
+            f"a formation needs a whole number of creatures >= 1, got {count}"
+            + (" (a diamond has 4)" if kind == "diamond" else "")
+        )
+    if not (np.isfinite(spacing) and spacing > 0):
+        raise GroupError(f"spacing must be a positive number of body lengths, got {spacing}")
+    along, beside = (1 + spacing) * length, spacing * length  # head to head; axis to axis
+    if kind == "in-line":
+        places, ranks = [(-k * along, 0.0) for k in range(count)], list(range(count))
+    elif kind == "side-by-side":
+        places = [(0.0, (k - (count - 1) / 2) * beside) for k in range(count)]
+        ranks = list(range(count))
+    else:
+        places = [(0.0, 0.0), (-along / 2, beside), (-along / 2, -beside), (-along, 0.0)]
+        ranks = [0, 1, 1, 2]
+    return [(Pose((x, y, 0.0)), rank) for (x, y), rank in zip(places, ranks, strict=True)]
 
 
 def posed(model: Model, pose: Pose) -> np.ndarray:
