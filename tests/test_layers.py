@@ -35,6 +35,7 @@ ADAPTERS = {
     "distributed": {"optimize/"},
     "dask": {"optimize/"},
     "gymnasium": {"envs/"},
+    "pettingzoo": {"envs/"},
 }
 PHYSICS = {"grid", "fluid", "body", "coupling", "sim"}
 ONLY_FROM = {"viz": {"app", "envs", "bench"}}  # pictures: the jobs, the env's render, benchmarks
