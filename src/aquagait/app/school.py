@@ -1,7 +1,8 @@
 """Swim a group of creatures in one fluid and keep the run on disk (docs/schools.md).
 
     setup = prepare_school(formation_members("eel2d", "in-line:2", spacing=0.5, phase=0.25))
-    setup = prepare_school(read_scene_file("pair.json"))      # or a scene file
+    members, grid = read_scene_file("pair.json")              # or a scene file
+    setup = prepare_school(members, **grid)
     run = run_school(setup, progress=...)
     write_school(run, "runs/eel2d-in-line", video=True)
 
@@ -38,7 +39,7 @@ import numpy as np
 from aquagait.app.errors import SetupError
 from aquagait.app.render import draw_swim, picture_look
 from aquagait.app.resolve import creature_key, find_creature, find_gait
-from aquagait.app.swim import measure, run_config
+from aquagait.app.swim import check_times, measure, run_config
 from aquagait.body.group import FORMATIONS, Group, GroupError, Pose, compose
 from aquagait.body.group import formation as place
 from aquagait.control.group import GroupPolicy
@@ -212,18 +213,17 @@ def read_scene_file(path) -> tuple[list[MemberSpec], dict]:
             )
         try:
             offset = tuple(float(v) for v in entry.get("offset", (0, 0, 0)))
-            offset = offset + (0.0,) * (3 - len(offset))
-            members.append(MemberSpec(
-                str(entry["name"]), entry.get("label"), offset[:3] if len(offset) == 3 else (),
-                float(entry.get("heading", 0.0)), entry.get("gait"), float(entry.get("phase", 0.0)),
-            ))  # fmt: skip
+            heading, phase = float(entry.get("heading", 0.0)), float(entry.get("phase", 0.0))
         except (TypeError, ValueError):
             raise SchoolSetupError(
                 f"{where}: offset is 2 or 3 numbers [m], heading [rad] and phase [cycles] are "
                 "numbers"
             ) from None
-        if len(members[-1].offset) != 3:
+        if len(offset) > 3:
             raise SchoolSetupError(f"{where}: offset is 2 or 3 numbers [m]")
+        offset = (*offset, 0.0, 0.0, 0.0)[:3]
+        members.append(MemberSpec(str(entry["name"]), entry.get("label"), offset, heading,
+                                  entry.get("gait"), phase))  # fmt: skip
     grid = {k: data[k] for k in ("resolution", "cell_size") if k in data}
     return members, grid
 
@@ -284,9 +284,7 @@ def prepare_school(
             )
         params.append(found)
         sources.append(source)
-    for value, what in ((seconds, "seconds"), (fps, "fps")) + ((dt, "dt"),) * (dt is not None):
-        if not (np.isfinite(value) and value > 0):
-            raise SchoolSetupError(f"{what} must be a positive number, got {value!r}")
+    check_times(seconds, fps, dt, SchoolSetupError)
     labels = [m.label for m in members]
     try:
         group = compose([c.model for c in creatures], None if None in labels else labels,

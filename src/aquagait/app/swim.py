@@ -187,9 +187,7 @@ def prepare_swim(
                 f"{name} has {creature.gait.size} gait parameters "
                 f"({', '.join(creature.gait.names)}); got {params.size}"
             )
-    for value, what in ((seconds, "seconds"), (fps, "fps")) + ((dt, "dt"),) * (dt is not None):
-        if not (np.isfinite(value) and value > 0):
-            raise SwimSetupError(f"{what} must be a positive number, got {value!r}")
+    check_times(seconds, fps, dt, SwimSetupError)
     try:
         scene = make_scene(creature, resolution=resolution, cell_size=cell_size, fluid=fluid)
     except ValueError as err:
@@ -213,6 +211,14 @@ def prepare_swim(
     except SteeringError as err:
         raise SwimSetupError(str(err)) from None
     return replace(setup, course=course)
+
+
+def check_times(seconds: float, fps: float, dt: float | None, error: type[SetupError]) -> None:
+    """Refuse a swim's ``seconds`` [s], ``fps`` [1/s] or ``dt`` [s] (None: the default) that is
+    not a positive number, with ``error``."""
+    for value, what in ((seconds, "seconds"), (fps, "fps")) + ((dt, "dt"),) * (dt is not None):
+        if not (np.isfinite(value) and value > 0):
+            raise error(f"{what} must be a positive number, got {value!r}")
 
 
 def run_swim(setup: SwimSetup, progress=None) -> SwimRun:

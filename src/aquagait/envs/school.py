@@ -50,7 +50,6 @@ from pettingzoo import ParallelEnv
 
 from aquagait.body.group import compose, formation
 from aquagait.control.group import GroupPolicy
-from aquagait.control.pd import joint_angles
 from aquagait.creatures.creature import actuated_dof_names
 from aquagait.envs.swim import (
     CONTROL_DT,
@@ -59,6 +58,8 @@ from aquagait.envs.swim import (
     RESIDUAL_SCALE,
     Targets,
     _creature,
+    creature_names,
+    creature_observation,
 )
 from aquagait.sim import SimulationError, advance, growth_notes, init_state, make_scene
 from aquagait.sim.group import group_grid
@@ -254,17 +255,9 @@ class SchoolEnv(ParallelEnv):
                                                 strict=True)):  # fmt: skip
             _, frame = self._frame(q, k)
             root = member.links.start + member.model.joints[0].link
-            local_spin = frame.T @ spin[root]
-            attitude = frame[:2, 0] if dim == 2 else np.concatenate([frame[:, 0], frame[:, 2]])
-            phase = 2 * np.pi * self.state.time / self.period
-            parts = [
-                joint_angles(member.model, q[member.qpos]),
-                qd[member.dofs][member.model.actuated_dofs],
-                (frame.T @ velocity[root])[:dim],
-                local_spin[2:] if dim == 2 else local_spin,
-                attitude,
-                [np.sin(phase), np.cos(phase)],
-            ]
+            parts = [creature_observation(member.model, q[member.qpos], qd[member.dofs], frame,
+                                          velocity[root], spin[root],
+                                          self.state.time / self.period)]  # fmt: skip
             for other in range(len(self.group.members)):
                 if other == k:
                     continue
@@ -278,12 +271,7 @@ class SchoolEnv(ParallelEnv):
     def _observation_names(self, k: int, dofs) -> tuple[str, ...]:
         dim = self.group.model.dim
         axes = "xyz"[:dim]
-        names = [f"angle:{d}" for d in dofs] + [f"rate:{d}" for d in dofs]
-        names += [f"velocity:{a}" for a in axes]
-        names += ["spin:z"] if dim == 2 else [f"spin:{a}" for a in "xyz"]
-        names += ["heading:cos", "heading:sin"] if dim == 2 else [
-            *(f"forward:{a}" for a in "xyz"), *(f"up:{a}" for a in "xyz")]  # fmt: skip
-        names += ["clock:sin", "clock:cos"]
+        names = creature_names(dofs, dim)
         for other, label in enumerate(self.possible_agents):
             if other != k:
                 names += [f"{label}:position:{a}" for a in axes]

@@ -348,42 +348,17 @@ class SwimEnv(gym.Env):
 
     def _observe(self) -> np.ndarray:
         model, state, pose = self.creature.model, self.state, self.pose
-        dim = model.dim
         _, velocity, spin = self.scene.dynamics.link_motion(state.qpos, state.qvel)
         root = model.joints[0].link
-        local_velocity = (pose.frame.T @ velocity[root])[:dim]
-        local_spin = pose.frame.T @ spin[root]
-        if dim == 2:
-            turn = pose.frame[:2, 0]
-            attitude = turn / np.linalg.norm(turn)
-            local_spin = local_spin[2:]
-        else:
-            attitude = np.concatenate([pose.frame[:, 0], pose.frame[:, 2]])
-        phase = 2 * np.pi * state.time / self.period
-        parts = [
-            joint_angles(model, state.qpos),
-            state.qvel[model.actuated_dofs],
-            local_velocity,
-            local_spin,
-            attitude,
-            [np.sin(phase), np.cos(phase)],
-            self.task.observe(pose),
-        ]
+        own = creature_observation(model, state.qpos, state.qvel, pose.frame, velocity[root],
+                                   spin[root], state.time / self.period)  # fmt: skip
+        parts = [own, self.task.observe(pose)]
         if self.lateral_line is not None:
             parts.append(self.lateral_line.read(self.scene, state, pose.frame))
         return np.concatenate(parts).astype(np.float64)
 
     def _names(self, dofs) -> tuple[str, ...]:
-        dim = self.creature.dim
-        axes = "xyz"[:dim]
-        names = [f"angle:{d}" for d in dofs] + [f"rate:{d}" for d in dofs]
-        names += [f"velocity:{a}" for a in axes]
-        names += ["spin:z"] if dim == 2 else [f"spin:{a}" for a in "xyz"]
-        if dim == 2:
-            names += ["heading:cos", "heading:sin"]
-        else:
-            names += [f"forward:{a}" for a in "xyz"] + [f"up:{a}" for a in "xyz"]
-        names += ["clock:sin", "clock:cos", *self.task.names]
+        names = [*creature_names(dofs, self.creature.dim), *self.task.names]
         if self.lateral_line is not None:
             names += list(self.lateral_line.names)
         return tuple(names)
@@ -408,6 +383,43 @@ class SwimEnv(gym.Env):
                 self._blocks = 1 if state.grid.dim == 2 else stride(state.grid.shape)
             record = fluid_frame(self.scene, state, self._blocks)
         self._frames.append((replace(state, velocity=None, pressure=None), record))
+
+
+def creature_observation(model, q, qd, frame, velocity, spin, cycles: float) -> np.ndarray:
+    """A creature's own observation entries (module docstring: angles to clock, in order).
+
+    Args:
+        model: the creature's ``Model``.
+        q: (nq,) its positions; qd: (nv,) its velocities.
+        frame: (3, 3) its root's rotation from the rest pose.
+        velocity: (3,) its root's world velocity [m/s]; spin: (3,) its angular velocity
+            [rad/s] (``Dynamics.link_motion``).
+        cycles: the time in gait cycles, t / T.
+    """
+    local_spin = frame.T @ spin
+    if model.dim == 2:
+        turn = frame[:2, 0]
+        attitude, local_spin = turn / np.linalg.norm(turn), local_spin[2:]
+    else:
+        attitude = np.concatenate([frame[:, 0], frame[:, 2]])
+    phase = 2 * np.pi * cycles
+    return np.concatenate([
+        joint_angles(model, q), qd[model.actuated_dofs], (frame.T @ velocity)[: model.dim],
+        local_spin, attitude, [np.sin(phase), np.cos(phase)],
+    ])  # fmt: skip
+
+
+def creature_names(dofs, dim: int) -> list[str]:
+    """The names of ``creature_observation``'s entries for the actuated ``dofs``."""
+    axes = "xyz"[:dim]
+    names = [f"angle:{d}" for d in dofs] + [f"rate:{d}" for d in dofs]
+    names += [f"velocity:{a}" for a in axes]
+    names += ["spin:z"] if dim == 2 else [f"spin:{a}" for a in "xyz"]
+    if dim == 2:
+        names += ["heading:cos", "heading:sin"]
+    else:
+        names += [f"forward:{a}" for a in "xyz"] + [f"up:{a}" for a in "xyz"]
+    return [*names, "clock:sin", "clock:cos"]
 
 
 def _creature(creature) -> Creature:

@@ -70,7 +70,7 @@ def gaps(scene: Scene, qpos) -> np.ndarray:
     """How far each member's surface keeps out of each other member at ``qpos``, (n, n) [m]
     (``aquagait.body.group.member_gaps``: negative inside, inf when not near)."""
     link_pos, link_rot = scene.dynamics.link_poses(qpos)
-    surfaces, shape = scene.member_surfaces
+    surfaces, shape = scene.gap_geometry
     return member_gaps(scene.group, shape, surfaces, link_pos, link_rot)
 
 

@@ -63,7 +63,7 @@ class Scene:
         return None if self.grid is None else body_shape(self.model, self.grid.cell_size)
 
     @cached_property
-    def member_surfaces(self) -> tuple[tuple[Surface, ...], BodyShape | None]:
+    def gap_geometry(self) -> tuple[tuple[Surface, ...], BodyShape | None]:
         """What ``aquagait.sim.group`` measures the gaps between a group's members on: each
         member's surface patches, in its own links, and the group's shape (the grid's, else
         sampled at a twentieth of the shortest member); ``((), None)`` for one creature."""
@@ -165,7 +165,7 @@ def make_scene(
             check_memory(grid, memory(grid), available_memory())  # before any allocation
     scene = Scene(model, dynamics, fluid.bind(model, grid), grid, float(density), group)
     if group is not None:
-        surfaces, shape = scene.member_surfaces
+        surfaces, shape = scene.gap_geometry
         refuse_overlap(
             group, member_gaps(group, shape, surfaces, *dynamics.link_poses(model.qpos0))
         )
