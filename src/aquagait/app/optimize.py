@@ -125,6 +125,11 @@ class SwimObjective:
                 values[name] = float(f"{values[name]:.6g}")
         return values
 
+    def scene_config(self) -> dict:
+        """What ``config.json`` says of the scene beyond the creature and its grid: nothing
+        alone (a search inside a group names the group, ``app.school_search``)."""
+        return {}
+
     def cruise(self, params) -> tuple[float, float, np.ndarray]:
         """Speed [m/s] and cost of transport [J/(kg m)] of the gait over the sample's last
         cycles (``objectives.cruise``), and the distance of each of its whole cycles [m]."""
@@ -146,10 +151,11 @@ class SwimObjective:
 @functools.lru_cache(maxsize=4)
 def _scene(name: str, resolution, cell_size, fluid: str, clearance=None) -> tuple[Creature, Scene]:
     creature = creatures.resolve(name)
-    return creature, make_scene(creature, resolution, cell_size, fluid=_fluid(fluid, clearance))
+    fluid_model = search_fluid(fluid, clearance)
+    return creature, make_scene(creature, resolution, cell_size, fluid=fluid_model)
 
 
-def _fluid(fluid: str, clearance: float | None) -> FluidModel:
+def search_fluid(fluid: str, clearance: float | None) -> FluidModel:
     """The fluid model an objective swims in: by name; the Euler fluid with its clearance,
     on a grid that does not grow (a sample that leaves it is penalized)."""
     if fluid == "euler":
@@ -208,7 +214,7 @@ class OptimizationSetup:
         return dict(
             creature=self.creature.name, maneuver=o.maneuver,
             axis=None if o.axis is None else list(o.axis), fluid=o.fluid,
-            fluid_settings=_fluid(o.fluid, o.clearance).settings(),
+            fluid_settings=search_fluid(o.fluid, o.clearance).settings(),
             resolution=o.resolution,
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
             direction=list(o.direction), objective=o.objective, min_speed=o.min_speed,
@@ -228,6 +234,7 @@ class OptimizationSetup:
             [self.target.resolution, self.target.cell_size],
             refine_top=None if self.problem.refine is None else s.refine_top,
             surrogate=s.surrogate, surrogate_batch=s.surrogate_batch if s.surrogate else None,
+            **o.scene_config(),
         )  # fmt: skip
 
     def populations(self) -> list[int]:
@@ -384,7 +391,7 @@ def prepare_optimization(
         _weight(energy_weight, creature.energy_weight, "energy weight",
                 "per joule, once past the bound"),
     )  # fmt: skip
-    _check_objective(objective, maneuver, min_speed, cycles)
+    check_objective(objective, maneuver, min_speed, cycles)
     if cycles is None:
         cycles = EFFICIENCY_CYCLES if objective == "efficiency" else DEFAULT_CYCLES
     period = float(np.max(gait.unpack(x0).period))
@@ -400,7 +407,7 @@ def prepare_optimization(
     )  # fmt: skip
     efficiency_notes = ()
     if kind == "efficiency":
-        objective, efficiency_notes = _efficiency(objective, x0, min_speed)
+        objective, efficiency_notes = efficiency_unit(objective, x0, min_speed)
     refine, notes = None, ()
     if coarse is not None:
         objective, refine, notes = _coarse_to_fine(creature, objective, coarse)
@@ -438,7 +445,7 @@ def _weight(value, default: float, what: str, unit: str) -> float:
     return float(value)
 
 
-def _check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
+def check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
     if objective not in OBJECTIVES:
         raise OptimizationSetupError(
             f"unknown objective {objective!r}; objectives: {', '.join(OBJECTIVES)}"
@@ -493,7 +500,7 @@ def _check_free_period(creature: Creature, maneuver: str, free_period: bool) -> 
         )
 
 
-def _efficiency(objective: SwimObjective, x0, min_speed) -> tuple[SwimObjective, tuple]:
+def efficiency_unit(objective: SwimObjective, x0, min_speed) -> tuple[SwimObjective, tuple]:
     """The efficiency objective with its unit (the start's cost of transport) and its
     speed (given, or ``MIN_SPEED_SHARE`` of the start's), and notes saying which."""
     speed, cost, distances = objective.cruise(x0)

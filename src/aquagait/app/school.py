@@ -374,14 +374,17 @@ def school_config(setup: SchoolSetup, trajectory: Trajectory) -> dict:
     return config
 
 
-def write_school(run: SchoolRun, out, video: bool = False, progress=None) -> Path:
-    """Write the run directory (module doc); with ``video`` also ``swim.mp4``.
+def write_school(
+    run: SchoolRun, out, video: bool = False, progress=None, extra_config=None
+) -> Path:
+    """Write the run directory (module doc); with ``video`` also ``swim.mp4``;
+    ``extra_config`` joins ``config.json`` (a search's settings).
 
     Raises:
         aquagait.viz.gl.RenderUnavailable: a 3D video and no OpenGL; the files are written.
     """
     setup = run.setup
-    config = {**run.config, "notes": list(run.notes)}
+    config = {**run.config, **(extra_config or {}), "notes": list(run.notes)}
     out = write_run(out, run.trajectory, config, run.metrics, model=setup.group.model)
     for k, member in enumerate(setup.group.members):
         folder = out / "members" / member.label

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 NAME_HELP = "a library creature (see: aquagait creatures) or the path of an MJCF file"
 GAIT_HELP = (
     "a gait.json, or the name of a gait the creature ships (hand-set, optimized, turn-left, "
@@ -30,3 +32,43 @@ def thicken_flag(command) -> None:
         help="an MJCF's parts thinner than a cell of its default grid stay as written "
         "(by default they are thickened for the fluid, masses unchanged)",
     )
+
+
+def formation_flags(command) -> None:
+    """``--formation``, ``--spacing`` and ``--phase``: a group of one creature (``swim``,
+    ``optimize``)."""
+    command.add_argument("--formation", metavar="KIND[:COUNT]",
+                         help="a group of this creature in one fluid: in-line, "
+                         "side-by-side or diamond, optionally :COUNT (default 2, 2, 4); "
+                         "default: one creature")  # fmt: skip
+    command.add_argument("--spacing", type=float, default=0.5, metavar="BL",
+                         help="a formation's spacing in body lengths: in line the clear water "
+                         "from one's tail to the next one's head, side by side between their "
+                         "axes (default 0.5)")  # fmt: skip
+    command.add_argument("--phase", type=float, default=0.0, metavar="CYCLES",
+                         help="a formation's phase offset: each creature's gait lags the one "
+                         "before by this many cycles (default 0)")  # fmt: skip
+
+
+def group_members(args, gait: str | None, command: str):
+    """The members ``--formation`` (each on ``gait``, ``--gait``'s) or a scene file
+    (``args.name`` ending in .json) asks for, their grid settings, the formation's words
+    for ``config.json`` and the run's label (``NAME-FORMATION`` or the scene file's stem).
+
+    Raises:
+        aquagait.app.SetupError: a bad formation or scene file, or ``--gait`` beside a
+            scene file.
+    """
+    from aquagait.app import SetupError
+    from aquagait.app.school import formation_members, read_scene_file
+
+    if args.formation is not None:
+        members = formation_members(args.name, args.formation, args.spacing, args.phase, gait)
+        formation = {"kind": args.formation, "spacing": args.spacing, "phase": args.phase}
+        return members, {}, formation, f"{Path(args.name).stem}-{args.formation.replace(':', '')}"
+    if gait is not None:
+        raise SetupError(
+            f"a scene file names each creature's gait: give none with {command}'s --gait"
+        )
+    members, grid = read_scene_file(args.name)
+    return members, grid, None, Path(args.name).stem

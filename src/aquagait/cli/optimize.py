@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 from aquagait.cli.errors import fail
-from aquagait.cli.flags import NAME_HELP, thicken_flag
-from aquagait.cli.progress import GenerationLine
+from aquagait.cli.flags import NAME_HELP, formation_flags, group_members, thicken_flag
+from aquagait.cli.progress import GenerationLine, ProgressBar
 from aquagait.cli.swim import swim_and_write
 from aquagait.cli.workers import add_evaluator_flags, executor_for
 from aquagait.control.gait import FREE_PERIOD
@@ -26,7 +26,9 @@ def add_parser(commands) -> None:
     optimize = commands.add_parser(
         "optimize", help="find a gait with CMA-ES; write gait.json, the log and the best swim"
     )
-    optimize.add_argument("name", metavar="NAME", help=NAME_HELP)
+    optimize.add_argument("name", metavar="NAME",
+                          help=f"{NAME_HELP}; or a scene file (SCENE.json) of several creatures, "
+                          "one of which is searched (--member)")  # fmt: skip
     thicken_flag(optimize)
     optimize.add_argument("--generations", type=int,
                           help="the most CMA-ES generations (per group); given alone, a fixed "
@@ -106,6 +108,14 @@ def add_parser(commands) -> None:
     optimize.add_argument("--free-period", action="store_true",
                           help="search the gait's period too, one for every joint, "
                           f"{low:g} to {high:g} times the creature's (straight)")  # fmt: skip
+    formation_flags(optimize)
+    optimize.add_argument("--member", metavar="LABEL",
+                          help="in a group (--formation or a scene file): the creature whose "
+                          "gait or phase is searched and scored, the others swimming theirs "
+                          "(default: the last, a formation's last follower)")  # fmt: skip
+    optimize.add_argument("--search", choices=("gait", "phase"), default="gait",
+                          help="in a group: search the member's gait (default) or its phase, "
+                          "its lag behind the group's clock in cycles")  # fmt: skip
     optimize.add_argument("--resume", action="store_true", help="continue the run in --out")
     optimize.add_argument("--no-video", action="store_true", help="skip the plot and video")
     optimize.set_defaults(run=run)
@@ -150,9 +160,12 @@ def default_directory(name: str, maneuver: str) -> Path:
 
 
 def run(args) -> int:
+    if args.formation is not None or args.name.endswith(".json"):
+        return run_group(args)
     from aquagait.app import SetupError, output_directory
 
     try:
+        _refuse_group_flags(args)
         setup = optimization_setup(args)
         out = output_directory(args.out or default_directory(setup.creature.name, args.maneuver))
     except SetupError as err:
@@ -169,16 +182,29 @@ def optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, s
     says how to resume, when the executor is lost (a Dask scheduler died, no
     worker for a minute): the checkpoint keeps the last complete generation.
     """
-    from aquagait.app import run_optimization, write_optimization
+    from aquagait.app import write_optimization
     from aquagait.app.optimize import best_swim, search_notes
+
+    result = search(setup, out, args, setup.creature.name)
+    if isinstance(result, int):
+        return result
+    write_optimization(setup, result, out, plot=video)
+    swim = best_swim(setup, out, default_grid=default_grid, seconds=seconds)
+    return swim_and_write(swim, out, video, extra_config={"optimization": setup.config()},
+                          notes=lambda run: search_notes(setup, run, out))  # fmt: skip
+
+
+def search(setup, out: Path, args, name: str):
+    """Run the search on the flags' evaluator and print its outcome; its ``Result``, or the
+    exit status of a failure (``optimize_and_swim``)."""
+    from aquagait.app import run_optimization
     from aquagait.optimize import ExecutorLost
 
     try:
         with executor_for(args) as executor:
             workers = executor.describe() if executor else "1 worker (this process)"
-            name, size = setup.creature.name, setup.problem.size
-            print(f"optimizing {name}: {size} parameters, {setup.budget()}; {workers}",
-                  file=sys.stderr)  # fmt: skip
+            print(f"optimizing {name}: {setup.problem.size} parameters, {setup.budget()}; "
+                  f"{workers}", file=sys.stderr)  # fmt: skip
             _say_if_finished(out, args.resume)
             _say_if_idle(setup.settings, args)
             result = run_optimization(setup, out, executor, args.resume, GenerationLine())
@@ -186,15 +212,82 @@ def optimize_and_swim(setup, out: Path, args, video: bool, default_grid=False, s
         return fail("optimize", err, status=1)
     except (FileExistsError, FileNotFoundError, ValueError, ImportError, OSError) as err:
         return fail("optimize", err, status=2)
-    write_optimization(setup, result, out, plot=video)
     start = "" if result.start_f is None else f"; the start: {result.start_f:.4g}"
     if result.start_f is not None and result.best_f == result.start_f:
         start += ", not bettered"
     print(f"best objective {result.best_f:.4g} after {result.evaluations} samples "
           f"({result.stopped}{start})")  # fmt: skip
-    swim = best_swim(setup, out, default_grid=default_grid, seconds=seconds)
-    return swim_and_write(swim, out, video, extra_config={"optimization": setup.config()},
-                          notes=lambda run: search_notes(setup, run, out))  # fmt: skip
+    return result
+
+
+GROUP_REFUSES = {
+    "maneuver": ("straight", "a group's search is for swimming straight"),
+    "turn_limit": (None, "a group's search is for swimming straight"),
+    "free_period": (False, "a group keeps each creature's period"),
+    "coarse": (None, "a group's search swims on the group's grid"),
+}
+"""Flags a search inside a group refuses: each one's default and why."""
+
+MEMBER_FLAGS = ("member", "search")
+"""Flags only a search inside a group takes."""
+
+
+def _refuse_group_flags(args) -> None:
+    from aquagait.app import SetupError
+
+    given = [f"--{flag}" for flag in MEMBER_FLAGS if getattr(args, flag) not in (None, "gait")]
+    if given:
+        raise SetupError(
+            f"{' and '.join(given)} choose a creature of a group: give --formation, or a "
+            "scene file (SCENE.json) as NAME"
+        )
+
+
+def run_group(args) -> int:
+    """``aquagait optimize NAME --formation ...`` or ``optimize SCENE.json``: search one
+    member's gait or phase in its group, then swim the group with the best."""
+    from aquagait.app import RenderUnavailable, SetupError, output_directory
+    from aquagait.app.school import run_school, school_summary, write_school
+    from aquagait.app.school_search import prepare_school_search, write_school_search
+    from aquagait.sim import SimulationError
+
+    try:
+        for flag, (default, why) in GROUP_REFUSES.items():
+            if getattr(args, flag) != default:
+                raise SetupError(f"--{flag.replace('_', '-')} is refused in a group: {why}")
+        members, grid, formation, label = group_members(args, args.start, "optimize")
+        setup = prepare_school_search(
+            members, searched=args.member, search=args.search, objective=args.objective,
+            min_speed=args.min_speed, cycles=args.cycles,
+            resolution=args.resolution or grid.get("resolution"),
+            cell_size=args.cell_size or grid.get("cell_size"), step=args.step,
+            formation=formation, generations=args.generations, popsize=args.popsize,
+            seed=args.seed, max_evaluations=args.max_evaluations, patience=args.patience,
+            energy_weight=args.energy_weight, deviation_weight=args.deviation_weight,
+            surrogate=args.surrogate, surrogate_batch=args.surrogate_batch,
+        )  # fmt: skip
+        out = output_directory(args.out or Path("runs") / f"{label}-{setup.label}-optimize")
+    except SetupError as err:
+        return fail("optimize", err, status=2)
+    for note in setup.search_setup.notes:
+        print(f"note: {note}", file=sys.stderr)
+    what = f"{setup.label}'s {setup.search} in {label}"
+    result = search(setup.search_setup, out, args, what)
+    if isinstance(result, int):
+        return result
+    best = write_school_search(setup, result, out, plot=not args.no_video)
+    try:
+        run = run_school(best, progress=ProgressBar("swimming the best"))
+    except SimulationError as err:
+        return fail("optimize", err, status=1)
+    config = {"optimization": setup.search_setup.config()}
+    try:
+        write_school(run, out, not args.no_video, progress=ProgressBar("rendering"),
+                     extra_config=config)  # fmt: skip
+    except RenderUnavailable as err:
+        print(f"aquagait: the video is skipped, the run is kept: {err}", file=sys.stderr)
+    print(school_summary(run, out))
+    return 0
 
 
 def _say_if_finished(out: Path, resume: bool) -> None:

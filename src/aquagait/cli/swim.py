@@ -7,7 +7,14 @@ import sys
 from pathlib import Path
 
 from aquagait.cli.errors import fail
-from aquagait.cli.flags import GAIT_HELP, NAME_HELP, look_flags, thicken_flag
+from aquagait.cli.flags import (
+    GAIT_HELP,
+    NAME_HELP,
+    formation_flags,
+    group_members,
+    look_flags,
+    thicken_flag,
+)
 from aquagait.cli.progress import ProgressBar
 from aquagait.objectives import MANEUVERS
 from aquagait.sim import FLUIDS
@@ -45,17 +52,7 @@ def add_parser(commands) -> None:
                       help="run directory (default: runs/NAME; a group's runs/NAME-FORMATION "
                       "or runs/SCENE)")  # fmt: skip
     swim.add_argument("--no-video", action="store_true", help="skip swim.mp4")
-    swim.add_argument("--formation", metavar="KIND[:COUNT]",
-                      help="swim a group of this creature in one fluid: in-line, "
-                      "side-by-side or diamond, optionally :COUNT (default 2, 2, 4); "
-                      "default: one creature")  # fmt: skip
-    swim.add_argument("--spacing", type=float, default=0.5, metavar="BL",
-                      help="a formation's spacing in body lengths: in line the clear water "
-                      "from one's tail to the next one's head, side by side between their "
-                      "axes (default 0.5)")  # fmt: skip
-    swim.add_argument("--phase", type=float, default=0.0, metavar="CYCLES",
-                      help="a formation's phase offset: each creature's gait lags the one "
-                      "before by this many cycles (default 0)")  # fmt: skip
+    formation_flags(swim)
     look_flags(swim)
     swim.set_defaults(run=run)
 
@@ -110,14 +107,7 @@ def swim_and_write(setup, out: Path, video: bool, extra_config=None, notes=None)
 def run_group(args) -> int:
     """``aquagait swim NAME --formation ...`` or ``aquagait swim SCENE.json``: a group."""
     from aquagait.app import RenderUnavailable, SetupError, output_directory
-    from aquagait.app.school import (
-        formation_members,
-        prepare_school,
-        read_scene_file,
-        run_school,
-        school_summary,
-        write_school,
-    )
+    from aquagait.app.school import prepare_school, run_school, school_summary, write_school
     from aquagait.sim import SimulationError
 
     try:
@@ -126,17 +116,7 @@ def run_group(args) -> int:
                 "--maneuver and --keep-course steer one creature; a group swims straight "
                 "gaits (--gait, or each creature's in the scene file)"
             )
-        grid = {}
-        if args.formation is not None:
-            members = formation_members(args.name, args.formation, args.spacing, args.phase,
-                                        args.gait)  # fmt: skip
-            formation = {"kind": args.formation, "spacing": args.spacing, "phase": args.phase}
-            label = f"{Path(args.name).stem}-{args.formation.replace(':', '')}"
-        else:
-            if args.gait is not None:
-                raise SetupError("a scene file names each creature's gait: give none with --gait")
-            members, grid = read_scene_file(args.name)
-            formation, label = None, Path(args.name).stem
+        members, grid, formation, label = group_members(args, args.gait, "swim")
         setup = prepare_school(
             members, seconds=args.seconds, fluid=args.fluid,
             resolution=args.resolution or grid.get("resolution"),
