@@ -15,10 +15,11 @@ creature's shipped straight gait, lagged by its place's phase, exactly as
 ``aquagait.envs.swim.SwimEnv(action="residual")`` does for one creature: all-zero
 actions swim the formation as ``aquagait swim --formation`` does.
 
-Each agent's observation is a single creature's (``SwimEnv``'s, without task
-or lateral line: joint angles and rates, the root's velocity and spin in its
-own frame, its heading (2D) or forward and up axes (3D), the clock), then,
-for each other creature in order, where it is in this one's frame [m] and
+Each agent's observation is a single creature's (``SwimEnv``'s, without task:
+joint angles and rates, the root's velocity and spin in its own frame, its
+heading (2D) or forward and up axes (3D), the clock; with ``sense_flow``, its
+own lateral line, ``aquagait.envs.sensing``, which feels the others' wakes),
+then, for each other creature in order, where it is in this one's frame [m] and
 which way it heads (2D: the cosine and sine of the heading difference; 3D:
 its forward axis in this one's frame). ``observation_names(agent)`` names
 every entry.
@@ -51,6 +52,7 @@ from pettingzoo import ParallelEnv
 from aquagait.body.group import compose, formation
 from aquagait.control.group import GroupPolicy
 from aquagait.creatures.creature import actuated_dof_names
+from aquagait.envs.sensing import DEFAULT_SENSORS, LateralLine
 from aquagait.envs.swim import (
     CONTROL_DT,
     GRAVITY,
@@ -84,6 +86,8 @@ class SchoolEnv(ParallelEnv):
         fluid: 'euler' or 'simple'.
         resolution: cells per axis; default a grid that holds each creature's own.
         cell_size: h [m]; default the creature's.
+        sense_flow: add each creature's own lateral line (Euler fluid).
+        sensors: its sensors, even (half on each flank).
 
     Raises:
         ValueError: a setting that cannot be used; the message says what would be right.
@@ -106,6 +110,8 @@ class SchoolEnv(ParallelEnv):
         fluid: str = "euler",
         resolution=None,
         cell_size: float | None = None,
+        sense_flow: bool = False,
+        sensors: int = DEFAULT_SENSORS,
     ):
         self.creature = _creature(creature)
         model = self.creature.model
@@ -116,12 +122,18 @@ class SchoolEnv(ParallelEnv):
                 raise ValueError(f"{what} must be a positive number of seconds, got {value!r}")
         if fluid not in ("euler", "simple"):
             raise ValueError(f"fluid must be 'euler' or 'simple', got {fluid!r}")
+        if sense_flow and fluid != "euler":
+            raise ValueError("flow sensing reads the coupled fluid: give fluid='euler'")
         places = formation(kind, count, spacing, model.body_length)
         self.group = compose([model] * count, poses=[pose for pose, _ in places])
         h = cell_size or self.creature.cell_size
         shape, h, origin = group_grid(self.group, [self.creature.resolution] * count, [h] * count)
         self.scene = make_scene(self.group, resolution or shape, h, fluid=fluid,
                                 origin=None if resolution else origin)  # fmt: skip
+        self.lateral_lines = (
+            [LateralLine(self.scene, sensors, member) for member in self.group.members]
+            if sense_flow else None
+        )  # fmt: skip
         self.task, self.seconds, self.control_dt = task, float(seconds), float(control_dt)
         self.power_weight = float(power_weight)
 
@@ -258,6 +270,8 @@ class SchoolEnv(ParallelEnv):
             parts = [creature_observation(member.model, q[member.qpos], qd[member.dofs], frame,
                                           velocity[root], spin[root],
                                           self.state.time / self.period)]  # fmt: skip
+            if self.lateral_lines is not None:
+                parts.append(self.lateral_lines[k].read(self.scene, self.state, frame))
             for other in range(len(self.group.members)):
                 if other == k:
                     continue
@@ -272,6 +286,8 @@ class SchoolEnv(ParallelEnv):
         dim = self.group.model.dim
         axes = "xyz"[:dim]
         names = creature_names(dofs, dim)
+        if self.lateral_lines is not None:
+            names += list(self.lateral_lines[k].names)
         for other, label in enumerate(self.possible_agents):
             if other != k:
                 names += [f"{label}:position:{a}" for a in axes]

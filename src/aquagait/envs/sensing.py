@@ -16,12 +16,18 @@ that it reads water rather than the body's solid cells (where the pressure is
 not defined). The points are fixed in their links' frames and move with them.
 The fluid's fields are sampled multilinearly between cell centres
 (``aquagait.sim.particles.sample``).
+
+In a group (``aquagait.body.group``) each creature has its own line: the
+sensors are placed on the member's own body at its own rest pose, as if it
+swam alone, and then read through the group's links, so a follower's line
+feels the water its leader shed.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from aquagait.body.dynamics import Dynamics
 from aquagait.body.surface import body_surface
 from aquagait.fluid.operators import cell_centered
 from aquagait.sim import Scene, State
@@ -40,26 +46,31 @@ class LateralLine:
     """``count`` body-fixed flow sensors, half on each flank (module docstring).
 
     Args:
-        scene: the creature (facing +x at rest) in a fluid with a grid.
+        scene: the creature (facing +x at rest) in a fluid with a grid, or a group's.
         count: sensors, even, >= 2.
+        member: in a group's scene, the member (``aquagait.body.group.Member``) whose
+            line this is; None: the scene's one creature.
 
     Raises:
         ValueError: an odd or too small count, a scene without a grid, or a body with
             too few patches on a flank.
     """
 
-    def __init__(self, scene: Scene, count: int = DEFAULT_SENSORS):
+    def __init__(self, scene: Scene, count: int = DEFAULT_SENSORS, member=None):
         if int(count) != count or count < 2 or count % 2:
             raise ValueError(f"sensors must be an even whole number >= 2, got {count!r}")
         if scene.grid is None:
             raise ValueError("flow sensing needs a fluid grid: fluid='euler'")
-        model, cell_size = scene.model, scene.grid.cell_size
+        cell_size = scene.grid.cell_size
+        model, dynamics, first = scene.model, scene.dynamics, 0
+        if member is not None:  # placed on the member alone, read through the group's links
+            model, dynamics, first = member.model, Dynamics(member.model.mj), member.links.start
         surface = body_surface(model)
-        rest_pos, rest_rot = scene.dynamics.link_poses(model.qpos0)
+        rest_pos, rest_rot = dynamics.link_poses(model.qpos0)
         rot = rest_rot[surface.link]
         centre = rest_pos[surface.link] + np.einsum("mij,mj->mi", rot, surface.centre)
         normal = np.einsum("mij,mj->mi", rot, surface.normal)
-        middle = scene.dynamics.center_of_mass(model.qpos0)[2]
+        middle = dynamics.center_of_mass(model.qpos0)[2]
         links, points = [], []
         for side in (1.0, -1.0):  # left (+y), then right
             flank = np.flatnonzero(side * normal[:, 1] >= FLANK)
@@ -79,7 +90,7 @@ class LateralLine:
             local = surface.centre[chosen] + OFFSET * cell_size * surface.normal[chosen]
             links.append(surface.link[chosen])
             points.append(local)
-        self.link = np.concatenate(links)
+        self.link = np.concatenate(links) + first
         self.local = np.concatenate(points)
         self.dim = model.dim
 
