@@ -175,8 +175,12 @@ def prepare_school_search(
         objective: 'distance' (the paper's) or 'efficiency' (``prepare_optimization``),
             measured on the searched member; the efficiency objective's unit is its cost
             of transport in the group with its given gait and phase.
-        min_speed, cycles, step: as ``prepare_optimization``'s.
-        resolution, cell_size, fluid: the group's grid and fluid (``prepare_school``).
+        min_speed: as ``prepare_optimization``'s.
+        cycles: as ``prepare_optimization``'s.
+        resolution: the group's grid (``prepare_school``).
+        cell_size: the group's grid (``prepare_school``).
+        fluid: the group's fluid (``prepare_school``).
+        step: as ``prepare_optimization``'s.
         formation: how the members were made, recorded in ``config.json``.
         options: ``prepare_optimization``'s budget and weights: ``generations``,
             ``popsize``, ``seed``, ``max_evaluations``, ``patience``, ``energy_weight``,
