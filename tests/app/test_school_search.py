@@ -68,6 +68,9 @@ def test_a_phase_search_varies_the_lag_alone_within_a_cycle():
     assert (problem.lower.tolist(), problem.upper.tolist()) == ([0.0], [1.0])
     objective = setup.search_setup.objective
     assert objective([0.25]) != pytest.approx(objective([0.75]), rel=1e-3)
+    # a group spreads as the wake pushes its followers aside: its grid grows (a lone
+    # creature's search penalizes a sample that leaves its grid)
+    assert setup.search_setup.config()["fluid_settings"]["grow"] is True
 
 
 def test_the_efficiency_objective_s_unit_is_the_member_s_cost_in_the_group():

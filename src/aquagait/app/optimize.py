@@ -125,6 +125,10 @@ class SwimObjective:
                 values[name] = float(f"{values[name]:.6g}")
         return values
 
+    def fluid_model(self) -> FluidModel:
+        """The fluid a sample swims in (``search_fluid``)."""
+        return search_fluid(self.fluid, self.clearance)
+
     def scene_config(self) -> dict:
         """What ``config.json`` says of the scene beyond the creature and its grid: nothing
         alone (a search inside a group names the group, ``app.school_search``)."""
@@ -214,7 +218,7 @@ class OptimizationSetup:
         return dict(
             creature=self.creature.name, maneuver=o.maneuver,
             axis=None if o.axis is None else list(o.axis), fluid=o.fluid,
-            fluid_settings=search_fluid(o.fluid, o.clearance).settings(),
+            fluid_settings=o.fluid_model().settings(),
             resolution=o.resolution,
             cell_size=o.cell_size, clearance=o.clearance, seconds_per_sample=o.seconds,
             direction=list(o.direction), objective=o.objective, min_speed=o.min_speed,

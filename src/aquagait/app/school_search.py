@@ -15,7 +15,9 @@ a ``SwimObjective`` whose swim is the group's, so the search itself, its
 checkpoint and its parallel evaluation are the lone creature's, and the same
 seed gives the same gait serially, in processes and on a Dask cluster. A
 sample in which two creatures touch raises ``CreaturesTouched`` and scores
-the search's penalty.
+the search's penalty. Unlike a lone creature's, the group's grid grows when
+the group spreads (a follower pushed aside by the wake), as a group swim's
+does, so such a sample is scored, not penalized.
 
 Searching the ``phase`` is a search over one number: the searched creature's
 lag behind the group's clock, in its gait's cycles, within [0, 1].
@@ -47,7 +49,7 @@ from aquagait.io.gait import write_gait
 from aquagait.io.run import write_json
 from aquagait.objectives import EFFICIENCY_CYCLES
 from aquagait.optimize import Problem, Result
-from aquagait.sim import init_state, make_scene, rollout
+from aquagait.sim import EulerFluid, init_state, make_scene, rollout
 from aquagait.sim.group import member_trajectory
 
 SEARCHES = ("gait", "phase")
@@ -80,7 +82,7 @@ class GroupObjective(SwimObjective):
     def _swim(self, params):
         placed = tuple(entry[:4] for entry in self.school)
         (group_creatures, lone_scenes), scene = _group_scene(
-            placed, self.resolution, self.cell_size, self.origin, self.fluid, self.clearance
+            placed, self.resolution, self.cell_size, self.origin, self.fluid_model()
         )
         gaits = []
         for k, (creature, entry) in enumerate(zip(group_creatures, self.school, strict=True)):
@@ -100,6 +102,12 @@ class GroupObjective(SwimObjective):
         return (group_creatures[self.member], lone_scenes[self.member],
                 member_trajectory(traj, member), period)  # fmt: skip
 
+    def fluid_model(self):
+        """The lone search's fluid (``search_fluid``), but the Euler fluid's grid grows when
+        the group spreads (module doc)."""
+        fluid = search_fluid(self.fluid, self.clearance)
+        return replace(fluid, grow=True) if isinstance(fluid, EulerFluid) else fluid
+
     def scene_config(self) -> dict:
         """The group, the searched member and what is searched, for ``config.json``."""
         return {
@@ -117,15 +125,14 @@ class GroupObjective(SwimObjective):
 
 
 @functools.lru_cache(maxsize=2)
-def _group_scene(placed, resolution, cell_size, origin, fluid: str, clearance):
+def _group_scene(placed, resolution, cell_size, origin, fluid):
     """A group's creatures, each one's own vacuum scene (the objective's terms read a
     member's model, shape and dynamics from it) and the group's scene, built once per
     process. ``placed``: each member's ``(key, label, offset, heading)``."""
     found = tuple(creatures.resolve(key) for key, *_ in placed)
     group = compose([c.model for c in found], [label for _, label, *_ in placed],
                     [Pose(tuple(offset), heading) for *_, offset, heading in placed])  # fmt: skip
-    scene = make_scene(group, resolution, cell_size, fluid=search_fluid(fluid, clearance),
-                       origin=origin)  # fmt: skip
+    scene = make_scene(group, resolution, cell_size, fluid=fluid, origin=origin)
     lone = tuple(make_scene(member.model) for member in group.members)
     return (found, lone), scene
 
