@@ -148,6 +148,11 @@ def test_a_turn_limit_reaches_the_manoeuvre_objective_and_the_gaits_command(tmp_
     setup = prepare_optimization("eel2d", maneuver="turn-left", turn_limit=0.3, **COARSE)
     assert setup.objective.turn_limit == 0.3 and setup.config()["turn_limit"] == 0.3
     assert prepare_optimization("eel2d", **COARSE).config()["turn_limit"] is None
+    # by default the creature's: 90 degrees, or what its side-car says (the manta's 0.25)
+    turn = prepare_optimization("eel2d", maneuver="turn-left", **COARSE).objective.turn_limit
+    assert turn == ag.objectives.TURN == ag.creatures.get("eel2d").turn_limit
+    manta = prepare_optimization("manta", maneuver="pitch-up", fluid="none")
+    assert manta.objective.turn_limit == 0.25 == manta.config()["turn_limit"]
     with pytest.raises(OptimizationSetupError, match="--turn-limit is for a manoeuvre"):
         prepare_optimization("eel2d", turn_limit=0.3, **COARSE)
     with pytest.raises(OptimizationSetupError, match="turn limit must be an angle > 0"):

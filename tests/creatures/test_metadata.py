@@ -94,6 +94,7 @@ def test_a_planar_swimmer_without_metadata_gets_defaults_from_its_model(tmp_path
     assert_default_grid_fits(swimmer)
     assert swimmer.energy_bound == pytest.approx(5 * swimmer.model.mass * 0.3**2)
     assert swimmer.energy_weight == 1.0  # paper §4
+    assert swimmer.turn_limit == pytest.approx(np.pi / 2)  # a manoeuvre rewards up to 90 degrees
     assert (swimmer.natural_frequency, swimmer.damping_ratio) == (100.0, 1.5)
     notes = "\n".join(swimmer.notes)
     for words in ("no metadata", "2 hinges", "thinnest link (tail", "travelling wave", "energy"):
@@ -142,6 +143,7 @@ def test_a_sidecar_fills_what_it_states_and_defaults_the_rest(tmp_path):
         "grid": {"cell_size": 0.004},
         "energy_bound": 0.2,
         "energy_weight": 20,
+        "turn_limit": 0.4,
         "gaits": {
             "straight": {
                 "params": {"amplitude": 0.4, "phase[joint_1]": 0.5, "period": 0.8},
@@ -165,7 +167,7 @@ def test_a_sidecar_fills_what_it_states_and_defaults_the_rest(tmp_path):
     np.testing.assert_array_equal(swimmer.gaits["slow"].params, [0.2, 0.0, 1.2])
     assert swimmer.gaits["straight"].provenance["seed"] == 3
     assert swimmer.cell_size == 0.004 and swimmer.energy_bound == 0.2
-    assert swimmer.energy_weight == 20.0
+    assert swimmer.energy_weight == 20.0 and swimmer.turn_limit == 0.4
     assert_default_grid_fits(swimmer)  # the resolution from the stated cell size
     assert any(n.startswith("grid ") for n in swimmer.notes)
     assert not any("energy bound" in n for n in swimmer.notes)
@@ -200,6 +202,7 @@ SHAPES = [
     ({"grid": {"cell_size": "1 cm"}}, 'grid.cell_size: must be a number [m], got a string "1 cm"'),
     ({"energy_bound": float("nan")}, "energy_bound: must be a finite number [J], got nan"),
     ({"energy_weight": -1}, "energy_weight: must be >= 0, got -1"),
+    ({"turn_limit": 0}, "turn_limit: must be > 0 rad, got 0"),
     ({"gaits": {"straight": {"params": [0.1, "a"]}}}, "gaits.straight.params[1]: must be a number"),
     ({"gaits": {"turn left": 3}}, 'gaits["turn left"]: must be a JSON object'),
     ({"gaits": {"straight": {}}}, "gaits.straight: needs 'params'"),

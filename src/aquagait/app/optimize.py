@@ -347,7 +347,8 @@ def prepare_optimization(
             for in energy; the efficiency objective swims each sample ``cycles`` of
             its own period and measures the last whole ones.
         turn_limit: a manoeuvre: the most rotation about its axis the objective rewards
-            over a sample [rad]; None: ``objectives.TURN`` (90 degrees).
+            over a sample [rad]; None: the creature's (``Creature.turn_limit``: 90 degrees,
+            ``objectives.TURN``, unless its side-car says; the manta's is 0.25 rad).
             Smaller, a slow turner's search buys travel past it instead of more rotation
             (a radian is worth a metre, more than a small creature's length).
         surrogate: lq-CMA-ES (``aquagait.optimize.surrogate``): a quadratic model of the
@@ -384,7 +385,7 @@ def prepare_optimization(
     except ValueError as err:
         raise OptimizationSetupError(str(err)) from None
     _check_free_period(creature, maneuver, free_period)
-    turn_limit = _turn_limit(maneuver, turn_limit)
+    turn_limit = _turn_limit(maneuver, turn_limit, creature.turn_limit)
     gait = creature.spec(maneuver, free_period)
     x0 = _start(creature, maneuver, start, free_period)
     if step is not None and not 0 < step <= 1:
@@ -471,11 +472,11 @@ def check_objective(objective: str, maneuver: str, min_speed, cycles) -> None:
         )
 
 
-def _turn_limit(maneuver: str, limit) -> float:
-    """The rotation a manoeuvre is rewarded for, at most [rad]: ``limit`` checked, or
-    ``objectives.TURN``."""
+def _turn_limit(maneuver: str, limit, own: float) -> float:
+    """The rotation a manoeuvre is rewarded for, at most [rad]: ``limit`` checked, or the
+    creature's ``own``."""
     if limit is None:
-        return objectives.TURN
+        return own
     if maneuver == STRAIGHT:
         raise OptimizationSetupError(
             "--turn-limit is for a manoeuvre (--maneuver turn-left, pitch-up, ...): "
@@ -483,7 +484,7 @@ def _turn_limit(maneuver: str, limit) -> float:
         )
     if not (np.isfinite(limit) and limit > 0):
         raise OptimizationSetupError(
-            f"turn limit must be an angle > 0 [rad] (the default is {objectives.TURN:.4g}), "
+            f"turn limit must be an angle > 0 [rad] (the creature's is {own:.4g}), "
             f"got {limit}"
         )
     return float(limit)

@@ -69,8 +69,9 @@ def add_parser(commands) -> None:
                           "offsets freed, rotation rewarded")  # fmt: skip
     optimize.add_argument("--turn-limit", type=float, metavar="RAD",
                           help="a manoeuvre: the most rotation about its axis rewarded over "
-                          f"a sample [rad] (default {TURN:.4g}, 90 degrees; "
-                          "smaller, the search buys travel past it)")  # fmt: skip
+                          "a sample [rad] (default: the creature's, "
+                          f"{TURN:.4g} or 90 degrees unless its side-car says; the manta's "
+                          "0.25; smaller, the search buys travel past it)")  # fmt: skip
     optimize.add_argument("--start", "--gait", metavar="FILE|NAME",
                           help="start the search from this gait: a gait.json or a shipped "
                           "gait's name (default: the shipped straight gait); --gait, as in "

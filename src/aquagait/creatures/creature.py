@@ -19,7 +19,7 @@ from aquagait.body.dynamics import Dynamics
 from aquagait.body.model import Model
 from aquagait.control.gait import DEFAULT_BOUNDS, GaitSpec, SineGait
 from aquagait.control.pd import StablePD
-from aquagait.objectives import MANEUVERS, STRAIGHT, Weights
+from aquagait.objectives import MANEUVERS, STRAIGHT, TURN, Weights
 from aquagait.sim.follow import CLEARANCE, cells_around
 
 
@@ -74,6 +74,8 @@ class Creature:
             objective's energy term switches on (docs/method-search.md).
         energy_weight: [1/J] that term's weight (``objectives.Weights.energy``):
             once the work passes the bound, the objective adds this times it.
+        turn_limit: [rad] the most rotation a manoeuvre's search rewards over a sample
+            (``objectives.turning``; 90 degrees unless its side-car says).
         natural_frequency: PD servo w [rad/s] (see ``aquagait.control.pd``).
         damping_ratio: PD servo zeta.
         description: one line.
@@ -96,6 +98,7 @@ class Creature:
     cell_size: float
     energy_bound: float
     energy_weight: float = Weights.energy
+    turn_limit: float = TURN
     natural_frequency: float = 100.0
     damping_ratio: float = 1.5
     description: str = ""
@@ -301,6 +304,8 @@ def creature_problems(c: Creature) -> list[str]:
         problems.append(f"energy bound {c.energy_bound!r} must be a positive number of joules")
     if not (np.isfinite(c.energy_weight) and c.energy_weight >= 0):
         problems.append(f"energy weight {c.energy_weight!r} must be a number >= 0 (per joule)")
+    if not (np.isfinite(c.turn_limit) and c.turn_limit > 0):
+        problems.append(f"turn limit {c.turn_limit!r} must be an angle > 0 [rad]")
     if not (c.natural_frequency > 0 and c.damping_ratio >= 0):
         problems.append(
             f"PD gains need natural_frequency > 0 rad/s and damping_ratio >= 0; got "

@@ -24,6 +24,7 @@ tail hinges, mirrored legs optimized after the tail):
       "grid": {"resolution": [96, 48, 48], "cell_size": 0.004},
       "energy_bound": 0.02,
       "energy_weight": 1.0,
+      "turn_limit": 1.5708,
       "forward": [1, 0, 0],
       "planar_fluid": "2d",
       "view": "side-above",
@@ -84,6 +85,12 @@ The entries (units: rad, s, m, J; the paper's gait is
   than a metre of swimming, needs more: the frog has 20 (at 1 its search spent
   4.1x the bound for 2.7x the distance). ``aquagait optimize --energy-weight``
   overrides it.
+- ``turn_limit`` [rad] (> 0): the most rotation a manoeuvre's search rewards over
+  a sample (``objectives.turning``). Default 90 degrees (``objectives.TURN``).
+  Smaller, a slow turner's search buys travel past it instead of more
+  rotation: the manta has 0.25, and its capped pitches travel 0.10-0.22 body
+  lengths a cycle under way, against 0.04-0.06 uncapped.
+  ``aquagait optimize --turn-limit`` overrides it.
 - ``forward``: the direction the creature's head points, in the MJCF's frame
   ([x, y] or [x, y, z]; in a planar model, in its plane). By default the
   model's axis from its body's middle towards its root link, when the root
@@ -151,7 +158,7 @@ from aquagait.creatures.creature import (
     smallest_grid,
 )
 from aquagait.creatures.schema import at, check_sidecar
-from aquagait.objectives import MANEUVERS, Weights
+from aquagait.objectives import MANEUVERS, TURN, Weights
 from aquagait.sim.follow import CLEARANCE
 
 SUFFIX = ".aquagait.json"
@@ -170,6 +177,7 @@ class Metadata:
         grid: the ``grid`` entries given (resolution as a tuple of ints).
         energy_bound: [J], or None.
         energy_weight: [1/J], or None.
+        turn_limit: [rad], or None.
         forward: (3,) the direction the head points in the MJCF's frame, or None.
         planar_fluid: "2d" or "3d", where a planar model swims, or None ("2d").
         view: the 3D pictures' default view, or None ("follow").
@@ -183,6 +191,7 @@ class Metadata:
     grid: Mapping = field(default_factory=dict)
     energy_bound: float | None = None
     energy_weight: float | None = None
+    turn_limit: float | None = None
     forward: tuple[float, float, float] | None = None
     planar_fluid: str | None = None
     view: str | None = None
@@ -251,6 +260,7 @@ def build_creature(model: Model, meta: Metadata, name: str) -> Creature:
         cell_size=cell_size,
         energy_bound=_energy_bound(model, spec, meta, notes),
         energy_weight=Weights.energy if meta.energy_weight is None else meta.energy_weight,
+        turn_limit=TURN if meta.turn_limit is None else meta.turn_limit,
         natural_frequency=float(pd["natural_frequency"]),
         damping_ratio=float(pd["damping_ratio"]),
         description=meta.description or _description(model),

@@ -27,6 +27,7 @@ KEYS = {
         "grid",
         "energy_bound",
         "energy_weight",
+        "turn_limit",
         "forward",
         "planar_fluid",
         "view",
@@ -269,7 +270,8 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
 
     Returns:
         ``{"description": str, "gait": {...}, "pd": {...}, "grid": {...},
-        "energy_bound": float, "energy_weight": float, "forward": (x, y, z),
+        "energy_bound": float, "energy_weight": float, "turn_limit": float,
+        "forward": (x, y, z),
         "planar_fluid": "2d" | "3d", "view": str, "gaits": {...}}``
         with only the entries given
         (lists of names as tuples, bounds as (lo, hi) pairs), and the list of
@@ -289,6 +291,8 @@ def check_sidecar(data) -> tuple[dict, list[str]]:
         out["energy_bound"] = check.number(top["energy_bound"], "energy_bound", 0, True, "J")
     if "energy_weight" in top:
         out["energy_weight"] = check.number(top["energy_weight"], "energy_weight", lower=0)
+    if "turn_limit" in top:
+        out["turn_limit"] = check.number(top["turn_limit"], "turn_limit", 0, True, "rad")
     if "forward" in top:
         out["forward"] = _forward(check, top["forward"])
     if "planar_fluid" in top:
