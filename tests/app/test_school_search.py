@@ -130,7 +130,8 @@ def test_the_command_line_searches_a_follower_and_swims_the_group_with_its_best(
     [
         (["--formation", "in-line", "--maneuver", "turn-left"], "--maneuver is refused in a group"),
         (["--formation", "in-line", "--free-period"], "--free-period is refused in a group"),
-        (["--member", "eel2d-2"], "--member choose a creature of a group"),
+        (["--member", "eel2d-2"], "--member: for a group"),
+        (["--phase", "0.25"], "--phase: for a group"),
         (["--formation", "in-line", "--member", "leader"], "no creature labelled 'leader'"),
     ],
 )

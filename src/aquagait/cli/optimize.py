@@ -229,18 +229,19 @@ GROUP_REFUSES = {
 }
 """Flags a search inside a group refuses: each one's default and why."""
 
-MEMBER_FLAGS = ("member", "search")
-"""Flags only a search inside a group takes."""
+MEMBER_FLAGS = {"member": None, "search": "gait", "spacing": 0.5, "phase": 0.0}
+"""Flags only a search inside a group takes, and their defaults."""
 
 
 def _refuse_group_flags(args) -> None:
     from aquagait.app import SetupError
 
-    given = [f"--{flag}" for flag in MEMBER_FLAGS if getattr(args, flag) not in (None, "gait")]
+    given = [f"--{flag}" for flag, default in MEMBER_FLAGS.items()
+             if getattr(args, flag) != default]  # fmt: skip
     if given:
         raise SetupError(
-            f"{' and '.join(given)} choose a creature of a group: give --formation, or a "
-            "scene file (SCENE.json) as NAME"
+            f"{', '.join(given)}: for a group, which one creature of it is searched: give "
+            "--formation, or a scene file (SCENE.json) as NAME"
         )
 
 
