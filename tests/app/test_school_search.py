@@ -3,6 +3,7 @@ theirs, scored on that creature's own part of the group's swim; the same seriall
 parallel; the command line end to end, with its refusals."""
 
 import csv
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -138,3 +139,23 @@ def test_the_command_line_searches_a_follower_and_swims_the_group_with_its_best(
 def test_the_command_line_refuses_what_a_group_s_search_cannot_do(flags, message, capsys):
     assert main(["optimize", "eel2d", "--cell-size", "0.02", *flags]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_a_scene_file_s_creature_is_searched_by_its_label(tmp_path, capsys):
+    scene = tmp_path / "pair.json"
+    scene.write_text(json.dumps({"creatures": [
+        {"name": "eel2d", "label": "leader"},
+        {"name": "eel2d", "label": "follower", "offset": [-0.75, 0.0], "phase": 0.25},
+    ], "cell_size": 0.02}))  # fmt: skip
+    out = tmp_path / "run"
+    assert main(["optimize", str(scene), "--member", "follower", "--cycles", "0.5",
+                 "--generations", "1", "--popsize", "2", "--workers", "1", "--no-video",
+                 "--out", str(out)]) == 0  # fmt: skip
+    assert "optimizing follower's gait in pair" in capsys.readouterr().err
+    members, grid = read_scene_file(out / "scene.json")
+    assert [m.label for m in members] == ["leader", "follower"] and grid == {"cell_size": 0.02}
+    assert members[0].gait is None and members[1].gait == str((out / "gait.json").resolve())
+    assert members[1].phase == 0.25  # a gait search keeps the phase
+    swum = read_run(out).config["school"]["members"][1]["gait"]["params"]
+    searched = json.loads((out / "gait.json").read_text())["params"]
+    np.testing.assert_array_equal(swum, searched)  # the group swum with the best found
