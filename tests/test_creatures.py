@@ -195,7 +195,9 @@ def test_default_gait_runs_in_vacuum_within_the_energy_bound(name):
     assert 0 < traj.energy[-1].sum() < creature.energy_bound  # the fluid only adds to it
     swing = np.ptp(traj.qpos[30:, -len(creature.gait.dofs) :], axis=0)  # after a cycle
     amplitude = np.asarray(creature.gait.unpack(creature.default_gait).amplitude)
-    np.testing.assert_allclose(swing, 2 * amplitude, rtol=0.05)  # the servo tracks it (2.2 %)
+    # the servo tracks it: within 5 % (measured 2.2 %), or 0.01 rad where a joint hardly
+    # beats (the fish's head joint, 0.025 rad: the others' recoil swings it 0.006 rad more)
+    np.testing.assert_allclose(swing, 2 * amplitude, rtol=0.05, atol=0.01)
 
 
 @pytest.mark.parametrize("name", [n for n in PAPER if n != "accordion2d"])

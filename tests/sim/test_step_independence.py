@@ -27,11 +27,22 @@ TOLERANCE = 0.05
 (over 2 s, 0.3%), against 15.5% with BFECC corrected up to the body."""
 
 
-def distances(creature, fluid, steps=STEPS):
+MEASURED_FISH_GAIT = {
+    "amplitude[j1]": 0.09071012011838855, "amplitude[j2]": 0.43596361607240003,
+    "amplitude[j3]": 0.6963879486562883, "phase[j1]": -0.5773247880931285,
+    "phase[j2]": -1.3922685878948522, "phase[j3]": -1.8763957538758695,
+}  # fmt: skip
+"""The fish's straight gait of 2026-12-01, which the figures here were measured with (the
+shipped one has changed since: the step's effect is the scheme's, not the gait's)."""
+
+
+def distances(creature, fluid, steps=STEPS, gait=None):
+    policy = creature.policy() if gait is None else creature.servo(
+        creature.spec().unpack([gait[name] for name in creature.spec().names]))  # fmt: skip
     out = []
     for dt in steps:
         scene = ag.make_scene(creature, fluid=fluid)
-        run = ag.rollout(scene, ag.init_state(scene), creature.policy(), SECONDS, dt=dt,
+        run = ag.rollout(scene, ag.init_state(scene), policy, SECONDS, dt=dt,
                          record_fluid=False)  # fmt: skip
         out.append(travel_metrics(creature.model, run)["distance"])
     return out
@@ -43,7 +54,7 @@ def fish():
 
 
 def test_the_fish_swims_as_far_at_a_third_of_the_step(fish):
-    coarse, fine = distances(fish, ag.EulerFluid())
+    coarse, fine = distances(fish, ag.EulerFluid(), gait=MEASURED_FISH_GAIT)
     assert fine == pytest.approx(coarse, rel=TOLERANCE)
 
 
@@ -52,7 +63,7 @@ def test_with_bfecc_corrected_up_to_the_body_it_does_not(fish):
     water fractions alone, faces under half water held to the body once a step)
     misses it threefold."""
     before = ag.EulerFluid(near_body=-1, boundary=voxelize_fractions, mostly_water=0.5)
-    coarse, fine = distances(fish, before)
+    coarse, fine = distances(fish, before, gait=MEASURED_FISH_GAIT)
     assert abs(fine / coarse - 1) > 2 * TOLERANCE
 
 

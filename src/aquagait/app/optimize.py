@@ -484,8 +484,7 @@ def _turn_limit(maneuver: str, limit, own: float) -> float:
         )
     if not (np.isfinite(limit) and limit > 0):
         raise OptimizationSetupError(
-            f"turn limit must be an angle > 0 [rad] (the creature's is {own:.4g}), "
-            f"got {limit}"
+            f"turn limit must be an angle > 0 [rad] (the creature's is {own:.4g}), got {limit}"
         )
     return float(limit)
 
