@@ -105,9 +105,7 @@ def test_a_bad_search_inside_a_group_says_what_would_do(options, message):
         prepare_school_search(pair(), cell_size=0.02, **options)
 
 
-def test_the_command_line_searches_a_follower_and_swims_the_group_with_its_best(
-    tmp_path, capsys
-):
+def test_the_command_line_searches_a_follower_and_swims_the_group_with_its_best(tmp_path, capsys):
     out = tmp_path / "follower"
     assert main(["optimize", "eel2d", "--formation", "in-line", "--cell-size", "0.02",
                  "--cycles", "0.5", "--generations", "1", "--popsize", "4", "--workers", "1",
@@ -139,6 +137,11 @@ def test_the_command_line_searches_a_follower_and_swims_the_group_with_its_best(
 def test_the_command_line_refuses_what_a_group_s_search_cannot_do(flags, message, capsys):
     assert main(["optimize", "eel2d", "--cell-size", "0.02", *flags]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_a_formation_s_flags_without_a_formation_are_refused(capsys):
+    assert main(["swim", "eel2d", "--spacing", "1.0", "--no-video"]) == 2
+    assert "--spacing: for a group: give --formation" in capsys.readouterr().err
 
 
 def test_a_scene_file_s_creature_is_searched_by_its_label(tmp_path, capsys):

@@ -34,6 +34,10 @@ def thicken_flag(command) -> None:
     )
 
 
+FORMATION_DEFAULTS = {"spacing": 0.5, "phase": 0.0}
+"""The defaults of a formation's flags, which mean nothing without ``--formation``."""
+
+
 def formation_flags(command) -> None:
     """``--formation``, ``--spacing`` and ``--phase``: a group of one creature (``swim``,
     ``optimize``)."""
@@ -41,13 +45,32 @@ def formation_flags(command) -> None:
                          help="a group of this creature in one fluid: in-line, "
                          "side-by-side or diamond, optionally :COUNT (default 2, 2, 4); "
                          "default: one creature")  # fmt: skip
-    command.add_argument("--spacing", type=float, default=0.5, metavar="BL",
+    command.add_argument("--spacing", type=float, default=FORMATION_DEFAULTS["spacing"],
+                         metavar="BL",
                          help="a formation's spacing in body lengths: in line the clear water "
                          "from one's tail to the next one's head, side by side between their "
                          "axes (default 0.5)")  # fmt: skip
-    command.add_argument("--phase", type=float, default=0.0, metavar="CYCLES",
+    command.add_argument("--phase", type=float, default=FORMATION_DEFAULTS["phase"],
+                         metavar="CYCLES",
                          help="a formation's phase offset: each creature's gait lags the one "
                          "before by this many cycles (default 0)")  # fmt: skip
+
+
+def refuse_group_flags(args, defaults: dict) -> None:
+    """Refuse flags that only a group takes (``defaults``: each one's default) when given
+    to one creature.
+
+    Raises:
+        aquagait.app.SetupError: naming them.
+    """
+    from aquagait.app import SetupError
+
+    given = [f"--{flag}" for flag, default in defaults.items() if getattr(args, flag) != default]
+    if given:
+        raise SetupError(
+            f"{', '.join(given)}: for a group: give --formation, or a scene file (SCENE.json) "
+            "as NAME"
+        )
 
 
 def group_members(args, gait: str | None, command: str):

@@ -7,7 +7,14 @@ import sys
 from pathlib import Path
 
 from aquagait.cli.errors import fail
-from aquagait.cli.flags import NAME_HELP, formation_flags, group_members, thicken_flag
+from aquagait.cli.flags import (
+    FORMATION_DEFAULTS,
+    NAME_HELP,
+    formation_flags,
+    group_members,
+    refuse_group_flags,
+    thicken_flag,
+)
 from aquagait.cli.progress import GenerationLine, ProgressBar
 from aquagait.cli.swim import swim_and_write
 from aquagait.cli.workers import add_evaluator_flags, executor_for
@@ -166,7 +173,7 @@ def run(args) -> int:
     from aquagait.app import SetupError, output_directory
 
     try:
-        _refuse_group_flags(args)
+        refuse_group_flags(args, MEMBER_FLAGS)
         setup = optimization_setup(args)
         out = output_directory(args.out or default_directory(setup.creature.name, args.maneuver))
     except SetupError as err:
@@ -229,20 +236,8 @@ GROUP_REFUSES = {
 }
 """Flags a search inside a group refuses: each one's default and why."""
 
-MEMBER_FLAGS = {"member": None, "search": "gait", "spacing": 0.5, "phase": 0.0}
+MEMBER_FLAGS = {"member": None, "search": "gait", **FORMATION_DEFAULTS}
 """Flags only a search inside a group takes, and their defaults."""
-
-
-def _refuse_group_flags(args) -> None:
-    from aquagait.app import SetupError
-
-    given = [f"--{flag}" for flag, default in MEMBER_FLAGS.items()
-             if getattr(args, flag) != default]  # fmt: skip
-    if given:
-        raise SetupError(
-            f"{', '.join(given)}: for a group, which one creature of it is searched: give "
-            "--formation, or a scene file (SCENE.json) as NAME"
-        )
 
 
 def run_group(args) -> int:

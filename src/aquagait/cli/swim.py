@@ -8,11 +8,13 @@ from pathlib import Path
 
 from aquagait.cli.errors import fail
 from aquagait.cli.flags import (
+    FORMATION_DEFAULTS,
     GAIT_HELP,
     NAME_HELP,
     formation_flags,
     group_members,
     look_flags,
+    refuse_group_flags,
     thicken_flag,
 )
 from aquagait.cli.progress import ProgressBar
@@ -63,6 +65,7 @@ def run(args) -> int:
     from aquagait.app import SetupError, output_directory, prepare_swim
 
     try:
+        refuse_group_flags(args, FORMATION_DEFAULTS)
         setup = prepare_swim(
             args.name,
             gait=args.gait,
