@@ -32,8 +32,9 @@ MEASURED_FISH_GAIT = {
     "amplitude[j3]": 0.6963879486562883, "phase[j1]": -0.5773247880931285,
     "phase[j2]": -1.3922685878948522, "phase[j3]": -1.8763957538758695,
 }  # fmt: skip
-"""The fish's straight gait of 2026-12-01, which the figures here were measured with (the
-shipped one has changed since: the step's effect is the scheme's, not the gait's)."""
+"""The fish's straight gait of 2026-12-01, which the figures here were measured with, pinned
+so that they stay true when the shipped gait changes (a gait searched again moved the
+scheme-before's difference from 15.5 % to 9.2 %)."""
 
 
 def distances(creature, fluid, steps=STEPS, gait=None):
