@@ -2,7 +2,7 @@
 
     members = formation_members("eel2d", "in-line:2", spacing=0.5)
     setup = prepare_school_search(members, searched="eel2d-2", objective="efficiency")
-    result = run_optimization(setup.search, "runs/eel2d-follower", executor)
+    result = run_optimization(setup.search_setup, "runs/eel2d-follower", executor)
     best = write_school_search(setup, result, "runs/eel2d-follower")  # gait.json, scene.json
     run = run_school(best)                                  # the group with the best found
 
