@@ -88,8 +88,8 @@ The entries (units: rad, s, m, J; the paper's gait is
 - ``turn_limit`` [rad] (> 0): the most rotation a manoeuvre's search rewards over
   a sample (``objectives.turning``). Default 90 degrees (``objectives.TURN``).
   Smaller, a slow turner's search buys travel past it instead of more
-  rotation: the manta has 0.25, and its capped pitches travel 0.10-0.22 body
-  lengths a cycle under way, against 0.04-0.06 uncapped.
+  rotation: the manta has 0.25 (pitches searched with that cap travelled
+  0.10-0.22 body lengths a cycle under way, against 0.04-0.06 uncapped).
   ``aquagait optimize --turn-limit`` overrides it.
 - ``forward``: the direction the creature's head points, in the MJCF's frame
   ([x, y] or [x, y, z]; in a planar model, in its plane). By default the
