@@ -196,7 +196,8 @@ def test_default_gait_runs_in_vacuum_within_the_energy_bound(name):
     swing = np.ptp(traj.qpos[30:, -len(creature.gait.dofs) :], axis=0)  # after a cycle
     amplitude = np.asarray(creature.gait.unpack(creature.default_gait).amplitude)
     # the servo tracks it: within 5 % (measured 2.2 %), or 0.01 rad where a joint hardly
-    # beats (the fish's head joint, 0.025 rad: the others' recoil swings it 0.006 rad more)
+    # beats (a fish gait with a head joint of 0.025 rad: the others' recoil swung it 0.006
+    # rad more)
     np.testing.assert_allclose(swing, 2 * amplitude, rtol=0.05, atol=0.01)
 
 
