@@ -214,11 +214,14 @@ def prepare_school_search(
     check_objective(objective, STRAIGHT, min_speed, cycles)
     if cycles is None and objective == "efficiency":
         cycles = EFFICIENCY_CYCLES
+    # the lone search's start, bounds, weights and budget, checked; in the vacuum, as its
+    # own grid and the notes on it (room, a coarse grid) are not the group's
     lone = prepare_optimization(creature_key(creature), start=spec.gait, cycles=cycles,
-                                fluid=fluid, step=step, **options)  # fmt: skip
+                                fluid="none", step=step, **options)  # fmt: skip
     grid = school.scene.grid
+    fields = {name: getattr(lone.objective, name) for name in SwimObjective.__dataclass_fields__}
     group_objective = GroupObjective(
-        **{name: getattr(lone.objective, name) for name in SwimObjective.__dataclass_fields__},
+        **{**fields, "fluid": fluid},
         school=tuple(
             (creature_key(c), m.label, tuple(m.offset), m.heading, tuple(map(float, p)), m.phase)
             for c, m, p in zip(school.creatures, school.members, school.params, strict=True)
@@ -233,7 +236,7 @@ def prepare_school_search(
     if search == "phase":
         problem = Problem(group_objective, x0=[spec.phase % 1.0], lower=[0.0], upper=[1.0],
                           sigma0=step, names=("phase",))  # fmt: skip
-    notes = tuple(n for n in lone.notes if not n.startswith("efficiency"))
+    notes = ()
     if objective == "efficiency":
         group_objective, measured = efficiency_unit(replace(group_objective, objective=objective),
                                                 problem.x0, min_speed)  # fmt: skip
