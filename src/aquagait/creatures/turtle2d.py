@@ -70,8 +70,8 @@ rear_hip         not driven (held at 0)
 rear_knee        not driven (held at 0)
 ===============  ===================  ===============  =======  =============
 
-The hand-set start swims 0.19 body lengths per cycle from rest over 2 s, the
-optimized gait 0.39. Open loop the side-view turtle pitches (34 degrees nose
+The hand-set start (``--gait hand-set``) swims 0.16 body lengths per cycle from
+rest over 2 s, the optimized gait 0.39 (the physics of 2026-12-06). Open loop the side-view turtle pitches (34 degrees nose
 down over its first three cycles): the front flipper beats below the centre
 of mass, and, as in the paper (§7), a 2D turtle does not swim straight
 without path following; no attempt is made to trim it. Its learned
