@@ -1,0 +1,70 @@
+#!/bin/bash
+# The library's searches on today's physics (the library-refresh issue), in lanes that each
+# keep one core busy; run from the repository root, in the background:
+#
+#     nohup tools/library_searches.sh straight-2d > /dev/null 2>&1 &
+#     nohup tools/library_searches.sh straight-3d > /dev/null 2>&1 &
+#     nohup tools/library_searches.sh frog > /dev/null 2>&1 &
+#
+# Each search runs in runs/NAME with its log in runs/NAME.log, one worker, seed 1, the
+# default search. A search whose run directory holds a checkpoint goes on from it
+# (--resume), and one that has finished (gait.json written) is skipped, so after a session
+# ends the same command picks up where it stopped. Ship a finished search's gait with
+# tools/ship_gait.py once the slow tests pass with it; the manoeuvre and efficiency lanes
+# start from the shipped straight gait, so run them after the straight gaits have shipped.
+set -u
+cd "$(dirname "$0")/.."
+
+search() {  # run directory name, then aquagait optimize's arguments
+    local out=$1
+    shift
+    if [ -f "runs/$out/gait.json" ]; then
+        echo "runs/$out: finished, skipped"
+        return
+    fi
+    local resume=()
+    [ -f "runs/$out/checkpoint.pkl" ] && resume=(--resume)
+    echo "runs/$out: aquagait optimize $* ${resume[*]}"
+    aquagait optimize "$@" --seed 1 --workers 1 --out "runs/$out" "${resume[@]}" \
+        >> "runs/$out.log" 2>&1
+}
+
+case "${1:-}" in
+straight-2d)  # and eel3d, the cheapest of the 3D creatures
+    search eel3d-straight-51 eel3d
+    search eel2d-straight-51 eel2d
+    search turtle2d-straight-51 turtle2d
+    search eel2d-handset-51 eel2d --start hand-set
+    search turtle2d-handset-51 turtle2d --start hand-set
+    search eel3d-handset-51 eel3d --start hand-set
+    ;;
+straight-3d)
+    search manta-straight-51 manta
+    search turtle3d-straight-51 turtle3d
+    search alien-straight-51 alien
+    search turtle3d-handset-51 turtle3d --start hand-set
+    search alien-handset-51 alien --start hand-set
+    search manta-handset-51 manta --start hand-set
+    ;;
+frog)  # its shipped straight gait is the hand-set kick with searched forelimbs: one start
+    search frog-straight-51 frog
+    ;;
+maneuvers)  # from the shipped straight gaits; the manta's capped by its side-car (0.25 rad)
+    search eel2d-turn-left-51 eel2d --maneuver turn-left
+    search eel2d-turn-right-51 eel2d --maneuver turn-right
+    search manta-pitch-up-51 manta --maneuver pitch-up
+    search manta-pitch-down-51 manta --maneuver pitch-down
+    search turtle2d-turn-left-51 turtle2d --maneuver turn-left
+    search turtle2d-turn-right-51 turtle2d --maneuver turn-right
+    # the frog's turn: which one is chosen once its straight gait is known (it dives)
+    ;;
+efficient)  # at 75 % of the shipped straight gait's cruising speed (the default)
+    search eel2d-efficient-51 eel2d --objective efficiency --cycles 6
+    search eel3d-efficient-51 eel3d --objective efficiency --cycles 6
+    search fish-efficient-51 fish --objective efficiency --cycles 12
+    ;;
+*)
+    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers|efficient" >&2
+    exit 2
+    ;;
+esac
