@@ -86,7 +86,8 @@ def main() -> None:
             try:
                 rows.append(row(name, keep_course=True))
             except SwimSetupError as err:  # no learned manoeuvre to keep it with
-                print(f"| `{name}`, keeping its course | cannot: {err} |", flush=True)
+                why = str(err).split(" (")[0]  # the reason, not the commands that would help
+                print(f"| `{name}`, keeping its course | cannot: {why} |", flush=True)
                 continue
             print(markdown(rows[-1]), flush=True)
     if args.json:
