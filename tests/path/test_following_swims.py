@@ -58,11 +58,33 @@ def test_the_turtle_drifts_open_loop_and_holds_a_line_when_following():
 
 def test_the_manta_follows_a_vertical_s():
     """The ray swims 0.2 body lengths a cycle: a 1 m S, 0.1 m high, takes it 20 cycles.
-    Within a fifth of a body length of it on average, the library issue's target
-    (measured 0.02 graded, 0.17 by the paper's rule). Its pitches, learned from its
+    Within a fifth of a body length of it on average (measured 0.02 graded, 0.17 by the
+    paper's rule; on the physics of 2026-12-06 0.06). Its pitches, learned from its
     hand-set gait, travel 0.03 body lengths a cycle, and graded steering mixes some of one
-    into every cycle: it gets 2.0 body lengths along (2.3 by the paper's rule), enough to
-    say it went along and not round in place."""
+    into every cycle: it gets 1.9 body lengths along (0.75 m), enough to say it went along
+    and not round in place."""
     m = _follow("manta", "s-curve:length=1,amplitude=0.1,vertical=true", 20)
     assert m["path_distance_mean_body_lengths"] < 0.2
     assert m["path_progress_body_lengths"] > 1.5
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="the shipped pitches (learned before 2026-12-03, uncapped) travel 0.03 body "
+    "lengths a cycle: 0.75 m of the S's 1.09 in 20 cycles; they are to be learned again "
+    "with the side-car's cap of 0.25 rad (the library-refresh issue)",
+)
+@pytest.mark.parametrize("resolution", [None, (96, 48, 48)], ids=["default", "96x48x48"])
+def test_the_manta_follows_the_vertical_s_to_its_end_within_a_fifth_of_a_body_length(
+    resolution,
+):
+    """The library issue's target: the whole S in 20 cycles, never more than 0.2 body
+    lengths off it. A manoeuvre's turn under way is not a reproducible figure after a few
+    cycles (docs/follow.md, "How far ahead a manoeuvre's turn can be trusted": the
+    solve's tolerance alone moves the pitch-up's climb over ten cycles from 39 to 57
+    degrees), so the closed loop is held to it on the follower's default grid (64x40x40)
+    and on a larger one."""
+    m = _follow("manta", "s-curve:length=1,amplitude=0.1,vertical=true", 20,
+                resolution=resolution)  # fmt: skip
+    assert m["path_finished"]
+    assert m["path_distance_max_body_lengths"] <= 0.2
