@@ -71,10 +71,11 @@ rear_knee        not driven (held at 0)
 ===============  ===================  ===============  =======  =============
 
 The hand-set start (``--gait hand-set``) swims 0.16 body lengths per cycle from
-rest over 2 s, the optimized gait 0.39 (the physics of 2026-12-06). Open loop the side-view turtle pitches (34 degrees nose
-down over its first three cycles): the front flipper beats below the centre
-of mass, and, as in the paper (§7), a 2D turtle does not swim straight
-without path following; no attempt is made to trim it. Its learned
+rest over 2 s, the optimized gait 0.39 (the physics of 2026-12-06). Open loop
+the side-view turtle pitches (34 degrees nose down over its first three
+cycles): the front flipper beats below the centre of mass, and, as in the
+paper (§7), a 2D turtle does not swim straight without path following; no
+attempt is made to trim it. Its learned
 ``turn-left`` and ``turn-right`` (nose up and down in this side view: the
 front flipper's offsets freed, the rear flipper held as a rudder; 53 and 73
 degrees over two cycles from rest) let it hold a line with ``aquagait follow
