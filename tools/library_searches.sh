@@ -29,22 +29,18 @@ search() {  # run directory name, then aquagait optimize's arguments
         >> "runs/$out.log" 2>&1
 }
 
+from_both_starts() {  # each creature from its shipped straight gait, then each from hand-set
+    local name
+    for name in "$@"; do search "$name-straight-51" "$name"; done
+    for name in "$@"; do search "$name-handset-51" "$name" --start hand-set; done
+}
+
 case "${1:-}" in
 straight-2d)  # and eel3d, the cheapest of the 3D creatures
-    search eel3d-straight-51 eel3d
-    search eel2d-straight-51 eel2d
-    search turtle2d-straight-51 turtle2d
-    search eel2d-handset-51 eel2d --start hand-set
-    search turtle2d-handset-51 turtle2d --start hand-set
-    search eel3d-handset-51 eel3d --start hand-set
+    from_both_starts eel3d eel2d turtle2d
     ;;
 straight-3d)
-    search manta-straight-51 manta
-    search turtle3d-straight-51 turtle3d
-    search alien-straight-51 alien
-    search turtle3d-handset-51 turtle3d --start hand-set
-    search alien-handset-51 alien --start hand-set
-    search manta-handset-51 manta --start hand-set
+    from_both_starts manta turtle3d alien
     ;;
 frog)  # its shipped straight gait is the hand-set kick with searched forelimbs: one start
     search frog-straight-51 frog
