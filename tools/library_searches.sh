@@ -38,6 +38,7 @@ from_both_starts() {  # each creature from its shipped straight gait, then each 
 case "${1:-}" in
 straight-2d)  # and eel3d, the cheapest of the 3D creatures
     from_both_starts eel3d eel2d turtle2d
+    search accordion2d-straight-51 accordion2d  # its shipped gait is the hand-set one
     ;;
 straight-3d)
     from_both_starts manta turtle3d alien
@@ -52,7 +53,10 @@ maneuvers)  # from the shipped straight gaits; the manta's capped by its side-ca
     search manta-pitch-down-51 manta --maneuver pitch-down
     search turtle2d-turn-left-51 turtle2d --maneuver turn-left
     search turtle2d-turn-right-51 turtle2d --maneuver turn-right
-    # the frog's turn: which one is chosen once its straight gait is known (it dives)
+    # the frog's: pitches, which keep its mirror (a turn would drop it and double the
+    # parameters); it follows a vertical S with them, as the manta does
+    search frog-pitch-up-51 frog --maneuver pitch-up
+    search frog-pitch-down-51 frog --maneuver pitch-down
     ;;
 efficient)  # at 75 % of the shipped straight gait's cruising speed (the default)
     search eel2d-efficient-51 eel2d --objective efficiency --cycles 6
