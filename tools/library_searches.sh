@@ -2,9 +2,14 @@
 # The library's searches on today's physics (the library-refresh issue), in lanes that each
 # keep one core busy; run from the repository root, in the background:
 #
-#     nohup tools/library_searches.sh straight-2d > /dev/null 2>&1 &
-#     nohup tools/library_searches.sh straight-3d > /dev/null 2>&1 &
 #     nohup tools/library_searches.sh frog > /dev/null 2>&1 &
+#     nohup nice -n 10 tools/library_searches.sh straight-2d > /dev/null 2>&1 &
+#     nohup nice -n 10 tools/library_searches.sh straight-3d > /dev/null 2>&1 &
+#
+# The frog's searches are the longest chain (its straight gait, then its pitches from it,
+# 10-15 core-hours each), so its lane keeps a core to itself and the others share the
+# second at a lower priority. Once the frog's straight gait ships, run its two pitches
+# side by side (the manoeuvre lane's last two searches, one lane each).
 #
 # Each search runs in runs/NAME with its log in runs/NAME.log, one worker, seed 1, the
 # default search. A search whose run directory holds a checkpoint goes on from it
