@@ -8,8 +8,8 @@
 #
 # The frog's searches are the longest chain (its straight gait, then its pitches from it,
 # 10-15 core-hours each), so its lane keeps a core to itself and the others share the
-# second at a lower priority. Once the frog's straight gait ships, run its two pitches
-# side by side (the manoeuvre lane's last two searches, one lane each).
+# second at a lower priority. Once the frog's straight gait ships, its lane frog-pitches
+# runs its two pitches side by side.
 #
 # Each search runs in runs/NAME with its log in runs/NAME.log, one worker, seed 1, the
 # default search. A search whose run directory holds a checkpoint goes on from it
@@ -58,10 +58,13 @@ maneuvers)  # from the shipped straight gaits; the manta's capped by its side-ca
     search manta-pitch-down-51 manta --maneuver pitch-down
     search turtle2d-turn-left-51 turtle2d --maneuver turn-left
     search turtle2d-turn-right-51 turtle2d --maneuver turn-right
-    # the frog's: pitches, which keep its mirror (a turn would drop it and double the
-    # parameters); it follows a vertical S with them, as the manta does
-    search frog-pitch-up-51 frog --maneuver pitch-up
-    search frog-pitch-down-51 frog --maneuver pitch-down
+    ;;
+frog-pitches)  # the frog's manoeuvres, side by side (one core each): pitches, which keep its
+    # mirror (a turn would drop it and double the parameters); it follows a vertical S
+    # with them, as the manta does
+    search frog-pitch-up-51 frog --maneuver pitch-up &
+    search frog-pitch-down-51 frog --maneuver pitch-down &
+    wait
     ;;
 efficient)  # at 75 % of the shipped straight gait's cruising speed (the default)
     search eel2d-efficient-51 eel2d --objective efficiency --cycles 6
@@ -69,7 +72,7 @@ efficient)  # at 75 % of the shipped straight gait's cruising speed (the default
     search fish-efficient-51 fish --objective efficiency --cycles 12
     ;;
 *)
-    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers|efficient" >&2
+    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers|frog-pitches|efficient" >&2
     exit 2
     ;;
 esac
