@@ -41,9 +41,10 @@ from_both_starts() {  # each creature from its shipped straight gait, then each 
 }
 
 case "${1:-}" in
-straight-2d)  # and eel3d, the cheapest of the 3D creatures
-    from_both_starts eel3d eel2d turtle2d
+straight-2d)  # the 2D creatures first (cheap, and their turns wait on them), then eel3d
+    from_both_starts eel2d turtle2d
     search accordion2d-straight-51 accordion2d  # its shipped gait is the hand-set one
+    from_both_starts eel3d
     ;;
 straight-3d)
     from_both_starts manta turtle3d alien
