@@ -20,35 +20,36 @@ tail       0.10        0.043      z-prism, 1.6 -> 0.6 cm
 Total 0.507 kg. Root: slide x, slide y, hinge z (planar). Actuated DOFs:
 hinges j1..j4 about z between consecutive links, limits +-45 deg (0.785 rad).
 
-Gait (8 parameters; period 1 s and offset 0 fixed; amplitude bounds: the
-joint limits, the default). Shipped ``straight`` gait (optimized on
-2026-12-04: ``aquagait optimize eel2d --seed 1`` on the default grid, 58
-generations; 0.88 body lengths per cycle at cruise, Strouhal 0.42, the
-joints' phase lags -0.4, -1.3, -1.2 rad head to tail). Also shipped:
-``hand-set`` (the default before the optimized gaits: a travelling wave, 1.5
-rad of phase lag per joint, amplitude growing towards the tail; 0.39 body
-lengths per cycle; figures measured with it say so), ``efficient`` (``--objective
-efficiency``: 0.72 body lengths per cycle at cruise for a third of the
-straight gait's cost of transport) and the learned manoeuvres ``turn-left``
-and ``turn-right`` (12 parameters: the offsets freed, within +-0.5 rad;
-``aquagait optimize eel2d --maneuver turn-left --resolution 96 96`` from the
-straight gait, 2026-12-04), which turn 114 and 86 degrees over two cycles
-from rest and let it follow paths (``aquagait follow``).
+Gait (8 parameters; period 1 s and offset 0 fixed; amplitude bounds: the joint
+limits, the default). Shipped ``straight`` gait (optimized on 2026-12-06:
+``aquagait optimize eel2d --seed 1`` on the default grid from the gait of
+2026-12-04, 122 generations; 0.90 body lengths per cycle at cruise, Strouhal
+0.42, the joints' phase lags -0.73, -1.05, -0.99 rad head to tail). Also
+shipped: ``hand-set`` (the default before the optimized gaits: a travelling
+wave, 1.5 rad of phase lag per joint, amplitude growing towards the tail; 0.39
+body lengths per cycle; figures measured with it say so), ``efficient``
+(``--objective efficiency``, 2026-12-04: 0.72 body lengths per cycle at cruise
+for a third of the cost of transport of the straight gait then) and the
+learned manoeuvres ``turn-left`` and ``turn-right`` (12 parameters: the
+offsets freed, within +-0.5 rad; ``aquagait optimize eel2d --maneuver
+turn-left --resolution 96 96`` from the straight gait of 2026-12-04), which
+turn 114 and 86 degrees over two cycles from rest and let it follow paths
+(``aquagait follow``).
 
 ====  ==================  ===============  =========  ======  ==========  ========
 DOF   amplitude bounds    phase bounds     amplitude  phase   hand-set    hand-set
                                                               amplitude   phase
 ====  ==================  ===============  =========  ======  ==========  ========
-j1    [0, 0.785] rad      [-pi, pi] rad    0.510      -0.971  0.25        0
-j2    [0, 0.785] rad      [-pi, pi] rad    0.276      -1.401  0.35        -1.5
-j3    [0, 0.785] rad      [-pi, pi] rad    0.778      -2.707  0.45        -3.0
-j4    [0, 0.785] rad      [-pi, pi] rad    0.181      2.356   0.55        1.78
+j1    [0, 0.785] rad      [-pi, pi] rad    0.400      -0.716  0.25        0
+j2    [0, 0.785] rad      [-pi, pi] rad    0.433      -1.447  0.35        -1.5
+j3    [0, 0.785] rad      [-pi, pi] rad    0.646      -2.497  0.45        -3.0
+j4    [0, 0.785] rad      [-pi, pi] rad    0.560      2.796   0.55        1.78
 ====  ==================  ===============  =========  ======  ==========  ========
 
 Default grid 128 x 64 cells of 10 mm: 1.28 m x 0.64 m, 2.6 x 1.3 body lengths.
 Energy bound 5 m (L/T)^2 = 0.63 J over two cycles (the default; the hand-set
 gait spends 0.23 J in the Euler fluid, see ``defaults.ENERGY_COEFFICIENT``;
-the optimized one 0.584 J).
+the optimized one 0.632 J).
 PD servos: w = 100 rad/s, zeta = 1.5; the stable PD is then stable for
 dt < 0.022 s (linearized at rest in vacuum; added mass in water raises the
 limit), the explicit one for dt < 0.0028 s.
