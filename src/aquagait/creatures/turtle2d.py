@@ -46,20 +46,20 @@ the powerstroke sweeps the humerus through about 90 deg, Wyneken 1997),
 front_wrist (+-45 deg), rear_hip and rear_knee (+-30 deg).
 
 Gait: 4 optimized parameters from 4 DOFs. The gait drives the front flipper
-only (amplitude and phase of the shoulder and the wrist; period 1 s, offset
-0); the rear flipper's two hinges are servoed to rest (0 rad), trailing as
-rudders, as a real turtle's do in straight powerstroke swimming. Why not the
-other ways to get 4 from 4: a phase fixed per DOF from the anatomy (with free
-amplitudes) is not expressible (the metadata fixes one phase for every DOF,
-and a shoulder and wrist in phase make a poor foil); mirroring the rear
-flipper onto the front one (the paper's "symmetry") would beat the rear
-flipper as hard as the front one, which turtles do not do. Shipped
-``straight`` gait: optimized on 2026-12-04 (``aquagait optimize turtle2d
---seed 1``, 60 generations, provenance in the side-car; amplitudes 0.48 and
-0.77 rad, the wrist leading the shoulder by 0.68 rad), from the gait optimized
-before it, itself from a hand-set start in which the wrist lags the shoulder
-by a quarter cycle, so the blade feathers like a heaving and pitching foil
-(the defaults below).
+only (amplitude and phase of the shoulder and the wrist; period 1 s, offset 0);
+the rear flipper's two hinges are servoed to rest (0 rad), trailing as rudders,
+as a real turtle's do in straight powerstroke swimming. Why not the other ways
+to get 4 from 4: a phase fixed per DOF from the anatomy (with free amplitudes)
+is not expressible (the metadata fixes one phase for every DOF, and a shoulder
+and wrist in phase make a poor foil); mirroring the rear flipper onto the front
+one (the paper's "symmetry") would beat the rear flipper as hard as the front
+one, which turtles do not do. Shipped ``straight`` gait: optimized on
+2026-12-06 (``aquagait optimize turtle2d --seed 1``, 78 generations, provenance
+in the side-car; amplitudes 0.48 and 0.74 rad, the wrist leading the shoulder
+by 0.36 rad), from the gait of 2026-12-04 (0.48 and 0.77 rad, leading by 0.68),
+itself from gaits optimized before it and at first from a hand-set start in
+which the wrist lags the shoulder by a quarter cycle, so the blade feathers
+like a heaving and pitching foil (the defaults below).
 
 ===============  ===================  ===============  =======  =============
 DOF              amplitude bounds     phase bounds     default  default phase
@@ -71,7 +71,7 @@ rear_knee        not driven (held at 0)
 ===============  ===================  ===============  =======  =============
 
 The hand-set start (``--gait hand-set``) swims 0.16 body lengths per cycle from
-rest over 2 s, the optimized gait 0.39 (the physics of 2026-12-06). Open loop
+rest over 2 s, the optimized gait 0.41 (the physics of 2026-12-06). Open loop
 the side-view turtle pitches (34 degrees nose down over its first three
 cycles): the front flipper beats below the centre of mass, and, as in the
 paper (§7), a 2D turtle does not swim straight without path following; no
