@@ -72,14 +72,13 @@ rear_knee        not driven (held at 0)
 
 The hand-set start (``--gait hand-set``) swims 0.16 body lengths per cycle from
 rest over 2 s, the optimized gait 0.41 (the physics of 2026-12-06). Open loop
-the side-view turtle pitches (34 degrees nose down over its first three
-cycles): the front flipper beats below the centre of mass, and, as in the
-paper (§7), a 2D turtle does not swim straight without path following; no
-attempt is made to trim it. Its learned
-``turn-left`` and ``turn-right`` (nose up and down in this side view: the
-front flipper's offsets freed, the rear flipper held as a rudder; 53 and 73
-degrees over two cycles from rest) let it hold a line with ``aquagait follow
-turtle2d --path line``.
+the side-view turtle pitches (44 degrees nose down over its first three cycles;
+the gait of 2026-12-04, 34): the front flipper beats below the centre of mass,
+and, as in the paper (§7), a 2D turtle does not swim straight without path
+following; no attempt is made to trim it. Its learned ``turn-left`` and
+``turn-right`` (nose up and down in this side view: the front flipper's offsets
+freed, the rear flipper held as a rudder; 53 and 73 degrees over two cycles
+from rest) let it hold a line with ``aquagait follow turtle2d --path line``.
 
 Default grid 64 x 64 cells of 25 mm: 1.6 x 1.6 m, 1.7 x 1.7 body lengths.
 Energy bound 5 m (L/T)^2 = 438 J over two cycles (the default,
