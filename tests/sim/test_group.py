@@ -56,8 +56,9 @@ def test_creatures_far_apart_swim_as_each_swims_alone(eel):
 
     What remains is the grid, not the other eel: the group's grid follows the pair's box,
     so it shifts at other steps and its walls stand elsewhere (``aquagait.sim.follow``,
-    0.06-0.26 % for one eel), and doubling the distance changes nothing (measured at 40,
-    80 and 160 cells: x within 0.17, 0.22, 0.32 %, heading within 0.012, 0.003, 0.003 rad).
+    0.06-0.26 % for one eel), and doubling the distance changes nothing (measured with the
+    straight gait of 2026-12-06 at 40, 80 and 160 cells: x within 0.10, 0.03, 0.06 %, y
+    within 1.0, 1.3, 1.3 % of the x gained, heading within 0.005, 0.008, 0.008 rad).
     """
     alone = ag.make_scene(eel, (64, 32), H, fluid="euler")
     solo = travel(ag.rollout(alone, ag.init_state(alone), eel.policy(), 1.0))
@@ -67,18 +68,19 @@ def test_creatures_far_apart_swim_as_each_swims_alone(eel):
     for member in group.members:
         gained = travel(member_trajectory(swim, member))
         assert abs(gained[0] / solo[0] - 1) < 0.01, member.label
-        assert abs(gained[1] - solo[1]) < 0.01 * solo[0] and abs(gained[2] - solo[2]) < 0.02
+        assert abs(gained[1] - solo[1]) < 0.02 * solo[0] and abs(gained[2] - solo[2]) < 0.02
 
 
 def test_a_mirror_pair_side_by_side_stays_mirrored(eel):
-    """Eels at y = -+0.1 m (a fifth of a body length apart), the second swimming the
-    first's gait mirrored, on a grid symmetric about y = 0: their motions stay mirror
-    images. What breaks the mirror is the solve's tolerance (the red-black smoother is
-    not its own mirror image, ``aquagait.coupling.COUPLED_TOLERANCE``): at 1e-6, measured
-    1e-8 m and 1.5e-7 rad over 1 s (at 1e-4: 5e-6 m, 1.7e-5 rad). They do feel each other:
-    each turns 0.25 rad where a lone eel turns 0.30."""
+    """Eels at y = -+0.15 m (0.6 body lengths apart), the second swimming the first's gait
+    mirrored, on a grid symmetric about y = 0: their motions stay mirror images. What
+    breaks the mirror is the solve's tolerance (the red-black smoother is not its own
+    mirror image, ``aquagait.coupling.COUPLED_TOLERANCE``): at 1e-6, measured 5e-8 m and
+    1.6e-7 rad over 1 s (at 1e-4: 2.5e-6 m, 5e-6 rad). They do feel each other: each turns
+    0.31 rad where a lone eel turns 0.35. (At -+0.1 m the straight gait of 2026-12-06
+    turns them into each other within the second.)"""
     gait = eel.spec().unpack(eel.default_gait)
-    group = compose([eel.model, eel.model], poses=[Pose((0, -0.1, 0)), Pose((0, 0.1, 0))])
+    group = compose([eel.model, eel.model], poses=[Pose((0, -0.15, 0)), Pose((0, 0.15, 0))])
     fluid = EulerFluid(tolerance=1e-6)
     scene = ag.make_scene(group, (64, 48), H, fluid=fluid, origin=(-0.64, -0.48))
     policy = GroupPolicy(group, [eel.servo(gait), eel.servo(gait.mirrored())])
