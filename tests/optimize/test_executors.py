@@ -148,13 +148,17 @@ def until(condition, seconds: float = 30.0) -> None:
 
 
 def test_without_retries_a_lost_sample_gets_the_penalty_and_the_run_goes_on(tmp_path):
+    """The dying worker takes with it the samples still out, one to eight as the processes
+    are timed, and the search still reaches the constrained minimum (0.25, at x[0] = 0.5).
+    Emulated serially for each loss of the first or last k samples: 0.25-0.30 after 30
+    generations, but anywhere in 0.39-3.6 after 12, too few to forget a lost generation."""
     dies = sphere_problem(4, DiesOnce(Sphere(np.ones(4)), str(tmp_path / "died")), feasible=within)
-    settings = Settings(popsize=8, generations=12, seed=5, retries=0, penalty=1e3)
+    settings = Settings(popsize=8, generations=30, seed=5, retries=0, penalty=1e3)
     with ProcessExecutor(2) as executor:
         result = optimize(dies, settings, executor)
     failures = [row["failures"] for row in result.history]
     assert failures[0] >= 1 and sum(failures[1:]) == 0
-    assert result.generations == 12 and result.best_f < 1
+    assert result.generations == 30 and result.best_f < 0.35
 
 
 def test_an_objective_that_cannot_be_pickled_is_refused_up_front():
