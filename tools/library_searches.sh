@@ -52,13 +52,17 @@ straight-3d)
 frog)  # its shipped straight gait is the hand-set kick with searched forelimbs: one start
     search frog-straight-51 frog
     ;;
-maneuvers)  # from the shipped straight gaits; the manta's capped by its side-car (0.25 rad)
-    search eel2d-turn-left-51 eel2d --maneuver turn-left
-    search eel2d-turn-right-51 eel2d --maneuver turn-right
-    search manta-pitch-up-51 manta --maneuver pitch-up
-    search manta-pitch-down-51 manta --maneuver pitch-down
-    search turtle2d-turn-left-51 turtle2d --maneuver turn-left
-    search turtle2d-turn-right-51 turtle2d --maneuver turn-right
+maneuvers)  # from the shipped straight gaits, the manta's capped by its side-car (0.25 rad);
+    # name creatures to learn only theirs (tools/library_searches.sh maneuvers eel2d), as
+    # each straight gait ships
+    shift
+    names=("$@")
+    [ ${#names[@]} -eq 0 ] && names=(eel2d turtle2d manta)
+    for name in "${names[@]}"; do
+        moves=(turn-left turn-right)
+        [ "$name" = manta ] && moves=(pitch-up pitch-down)
+        for move in "${moves[@]}"; do search "$name-$move-51" "$name" --maneuver "$move"; done
+    done
     ;;
 frog-pitches)  # the frog's manoeuvres, side by side (one core each): pitches, which keep its
     # mirror (a turn would drop it and double the parameters); it follows a vertical S
@@ -73,7 +77,7 @@ efficient)  # at 75 % of the shipped straight gait's cruising speed (the default
     search fish-efficient-51 fish --objective efficiency --cycles 12
     ;;
 *)
-    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers|frog-pitches|efficient" >&2
+    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers [CREATURE ...]|frog-pitches|efficient" >&2
     exit 2
     ;;
 esac
