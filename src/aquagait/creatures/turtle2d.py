@@ -59,7 +59,9 @@ in the side-car; amplitudes 0.48 and 0.74 rad, the wrist leading the shoulder
 by 0.36 rad), from the gait of 2026-12-04 (0.48 and 0.77 rad, leading by 0.68),
 itself from gaits optimized before it and at first from a hand-set start in
 which the wrist lags the shoulder by a quarter cycle, so the blade feathers
-like a heaving and pitching foil (the defaults below).
+like a heaving and pitching foil (the defaults below). The same search from
+that hand-set start (``--start hand-set``, 529 samples) scored -0.396, short of
+the shipped gait's -0.404.
 
 ===============  ===================  ===============  =======  =============
 DOF              amplitude bounds     phase bounds     default  default phase
