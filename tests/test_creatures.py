@@ -229,7 +229,7 @@ def test_format_table_and_the_cli_list_the_library(capsys):
                                 "grid", "cell", "size", "gaits", "manoeuvres"]  # fmt: skip
     rows = {line.split()[0]: line.split()[1:] for line in lines[1:]}
     assert list(rows) == names()
-    assert rows["accordion2d"] == ["2D", "10", "1", "192x96", "4", "mm", "straight", "-"]
+    assert rows["accordion2d"] == ["2D", "10", "1", "192x96", "4", "mm", "straight,hand-set", "-"]
     assert rows["eel2d"] == ["2D", "4", "8", "128x64", "10", "mm", "straight,hand-set,efficient",
                              "turn-left,turn-right"]  # fmt: skip
     assert rows["fish"] == ["3D", "3", "6", "64x32x32", "5", "mm", "straight,hand-set,efficient",
