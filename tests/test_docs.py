@@ -133,7 +133,7 @@ def public_names():
                 yield pytest.param(obj, id=f"{module}.{name}")
 
 
-@pytest.mark.parametrize("obj", public_names())
+@pytest.mark.parametrize("obj", list(public_names()))
 def test_every_public_name_and_method_has_a_docstring(obj):
     assert inspect.getdoc(obj), f"{obj.__qualname__} has no docstring"
     if inspect.isclass(obj):
