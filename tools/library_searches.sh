@@ -72,13 +72,20 @@ frog-pitches)  # the frog's manoeuvres, side by side (one core each): pitches, w
     search frog-pitch-down-51 frog --maneuver pitch-down &
     wait
     ;;
-efficient)  # at 75 % of the shipped straight gait's cruising speed (the default)
-    search eel2d-efficient-51 eel2d --objective efficiency --cycles 6
-    search eel3d-efficient-51 eel3d --objective efficiency --cycles 6
-    search fish-efficient-51 fish --objective efficiency --cycles 12
+efficient)  # at 75 % of the shipped straight gait's cruising speed (the default); name
+    # creatures to search only theirs (tools/library_searches.sh efficient eel2d fish), as
+    # each straight gait ships
+    shift
+    names=("$@")
+    [ ${#names[@]} -eq 0 ] && names=(eel2d eel3d fish)
+    for name in "${names[@]}"; do
+        cycles=6
+        [ "$name" = fish ] && cycles=12  # the fish takes longer to reach cruise
+        search "$name-efficient-51" "$name" --objective efficiency --cycles "$cycles"
+    done
     ;;
 *)
-    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers [CREATURE ...]|frog-pitches|efficient" >&2
+    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers [CREATURE ...]|frog-pitches|efficient [CREATURE ...]" >&2
     exit 2
     ;;
 esac
