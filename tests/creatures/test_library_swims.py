@@ -2,7 +2,7 @@
 within its energy bound, upright, and, at cruise, as the animal does.
 
 Slow (twenty cycles of every creature on its default grid: about 15 minutes on one
-core); run with ``python3 -m pytest -m slow tests/creatures/test_library_swims.py -s``
+core); run with ``python3 -m pytest -m slow tests/creatures/test_library_swims.py -n 0 -s``
 to see each creature's Table 1 row (docs/library.md): body lengths per cycle from rest, cycles to
 settle, and at cruise body lengths per cycle, Strouhal number and cost of transport.
 """

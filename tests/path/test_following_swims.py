@@ -1,6 +1,6 @@
 """Following paths in water with the shipped manoeuvres (paper §5; slow: ``-m slow``).
 
-Run with ``python3 -m pytest -m slow tests/path/test_following_swims.py -s`` to
+Run with ``python3 -m pytest -m slow tests/path/test_following_swims.py -n 0 -s`` to
 see the figures of the issue: the eel on a circle and an S-curve, the 2D
 turtle open-loop and following a straight line, the manta on a vertical S;
 with graded steering (the default) and, for the eel's circle, the paper's rule.
