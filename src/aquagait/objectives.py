@@ -176,14 +176,34 @@ def rotation_vector(model: Model, traj: Trajectory, period: float | None = None)
     """
     if period is None:
         last = np.array([len(traj.time) - 1])
-    else:  # one cycle's frames, each phase of the beat once
-        last = np.flatnonzero(traj.time > traj.time[-1] - period + 1e-9 * period)
+    else:
+        last = cycle_frames(traj, traj.time[-1], period)
+    return rotation_between(model, traj, np.array([0]), last)
+
+
+def cycle_frames(traj: Trajectory, end: float, period: float) -> np.ndarray:
+    """The indices of the frames in the cycle of ``period`` [s] that ends at ``end`` [s]: one
+    cycle's frames, each phase of the beat once."""
+    return np.flatnonzero((traj.time > end - period + 1e-9 * period)
+                          & (traj.time <= end + 1e-9 * period))  # fmt: skip
+
+
+def rotation_between(model: Model, traj: Trajectory, first, last) -> np.ndarray:
+    """The root's change of orientation from its mean over the frames ``first`` to its mean
+    over the frames ``last`` (index arrays), as a world rotation vector (3,) [rad]
+    (``rotation_vector``: planar roots by their hinge angle, free ones by the chordal
+    mean of their quaternions)."""
     if model.planar:
-        return np.array([0.0, 0.0, traj.qpos[last, 2].mean() - traj.qpos[0, 2]])
-    quats = traj.qpos[last, 3:7]
-    quats = quats * np.where(quats @ quats[-1] < 0, -1.0, 1.0)[:, None]  # one hemisphere
-    end = quats.mean(axis=0)
-    return quat_log(quat_mul(end / np.linalg.norm(end), quat_conj(traj.qpos[0, 3:7])))
+        return np.array([0.0, 0.0, traj.qpos[last, 2].mean() - traj.qpos[first, 2].mean()])
+    start, end = (_mean_quat(traj.qpos[frames, 3:7]) for frames in (first, last))
+    return quat_log(quat_mul(end, quat_conj(start)))
+
+
+def _mean_quat(quats: np.ndarray) -> np.ndarray:
+    """The chordal mean of unit quaternions (k, 4), on the last one's hemisphere."""
+    quats = quats * np.where(quats @ quats[-1] < 0, -1.0, 1.0)[:, None]
+    mean = quats.mean(axis=0)
+    return mean / np.linalg.norm(mean)
 
 
 def root_rotation(model: Model, traj: Trajectory) -> float:

@@ -172,11 +172,11 @@ def test_the_following_ends_where_the_root_first_reaches_the_paths_end():
 
 def test_graded_steering_measures_each_turn_and_refuses_one_that_turns_the_wrong_way(learned):
     """In a vacuum, with nothing to push against, only the body's change of shape turns it,
-    and the eel's hand-set turn-left (its straight gait bent 0.2 rad left) turns it 0.40 rad
-    to the right over two cycles from rest (in the simple fluid 0.86): graded steering
+    and the eel's hand-set turn-left (its straight gait bent 0.2 rad left) turns it 0.42 rad
+    to the right over two cycles under way (in the simple fluid 1.14): graded steering
     cannot steer with it. The shipped turns, learned in water, turn their ways in the
-    simple fluid too (0.47-0.49 rad a cycle), and the setup records both rates."""
-    wrong_way = r"turn-left turns -0.40\d* rad its way.*In a vacuum.*steer in a fluid.*--steer"
+    simple fluid too (0.59-0.62 rad a cycle under way), and the setup records both rates."""
+    wrong_way = r"turn-left turns -0.42\d* rad its way.*under way.*In a vacuum.*in a fluid.*--steer"
     with pytest.raises(FollowSetupError, match=wrong_way):
         _follow("line", learned, steer="graded")
     setup = prepare_follow("eel2d", "line", cycles=1, fluid="simple")

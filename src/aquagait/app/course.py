@@ -1,15 +1,18 @@
 """Steering with learned manoeuvres: what path following and a swim that keeps its course
 share.
 
-    course = prepare_course(creature, scene, period)   # measures each manoeuvre's turn
+    course = prepare_course(creature, scene, straight, period)  # each manoeuvre's turn
     follower = course.follower(scene, straight, creature.servo, period)
     trajectory = rollout(scene, init_state(scene), None, seconds, plan=follower)
 
 Graded steering (``aquagait.path.rule.graded_shares``) mixes a share of a
 manoeuvre into the straight gait by how far the path ahead bears off the
 heading and how fast the manoeuvre turns. Each manoeuvre's turn a cycle is
-measured here, by swimming it ``RATE_CYCLES`` cycles from rest, as its
-search did (``turn_rates``).
+measured here under way, as steering uses it: ``UNDER_WAY_CYCLES`` cycles of
+the straight gait from rest, then ``RATE_CYCLES`` of the manoeuvre
+(``turn_rates``). Under way a manoeuvre turns other than from rest, where its
+search measured it: eel2d's turns of 2026-12-06 turn 1.3-1.8 times their rate
+from rest, and steering by that rate over-steered round a circle.
 
 A swim that keeps its course follows the straight line ahead of its start
 (+x, where every library creature faces). Open-loop gaits leave a 3D swimmer
@@ -32,13 +35,17 @@ from aquagait.app.errors import SetupError
 from aquagait.control.gait import SineGait
 from aquagait.creatures import Creature
 from aquagait.creatures.creature import STRAIGHT
-from aquagait.objectives import MANEUVERS, rotation_vector
+from aquagait.objectives import MANEUVERS, cycle_frames, rotation_between
 from aquagait.path import Follower, Path, root_pose
 from aquagait.sim import Scene, init_state, rollout
 
+UNDER_WAY_CYCLES = 2
+"""Cycles of the straight gait from rest before a manoeuvre's turn is measured: as far as
+a straight search's swim, to cruise or near it."""
+
 RATE_CYCLES = 2
-"""Cycles from rest over which graded steering measures each manoeuvre's turn (a
-manoeuvre's search swims two)."""
+"""Cycles of a manoeuvre over which graded steering measures its turn (a manoeuvre's search
+swims two)."""
 
 DEAD_BAND = 0.1
 """The follower's dead band, in body lengths (the paper's rule; graded steering uses it at
@@ -76,35 +83,54 @@ def sines(gaits: dict) -> dict:
 
 
 def turn_rates(
-    creature: Creature, scene: Scene, sines: dict, period: float, progress=None
+    creature: Creature,
+    scene: Scene,
+    straight: SineGait,
+    maneuvers: Mapping[str, SineGait],
+    period: float,
+    progress=None,
 ) -> dict[str, float]:
-    """Each manoeuvre's turn a cycle [rad], for graded steering: the root's rotation about
-    the manoeuvre's axis over ``RATE_CYCLES`` cycles from rest in ``scene`` (to its mean
-    orientation over the last, as the search measures it), per cycle.
+    """Each manoeuvre's turn a cycle [rad] under way, for graded steering.
+
+    The creature swims ``UNDER_WAY_CYCLES`` cycles of ``straight`` from rest in ``scene``,
+    then ``RATE_CYCLES`` of the manoeuvre; its turn is the root's rotation about the
+    manoeuvre's axis from its mean orientation over the last straight cycle to that over
+    the last cycle (``aquagait.objectives.rotation_between``: free of the recoil within
+    a beat), per cycle.
 
     Args:
-        sines: ``{manoeuvre: SineGait}``; ``straight`` is skipped.
+        straight: the gait the manoeuvres are mixed into.
+        maneuvers: ``{manoeuvre: SineGait}``; ``straight`` is skipped.
         period: the gait cycle [s].
         progress: ``progress(manoeuvre) -> progress(done, total)`` for each swim, or None.
 
     Raises:
         SteeringError: a manoeuvre that does not turn its way (learn it again).
     """
+    cruise, switch = creature.servo(straight), UNDER_WAY_CYCLES * period
+    seconds = (UNDER_WAY_CYCLES + RATE_CYCLES) * period
     rates = {}
-    for name, gait in sines.items():
+    for name, gait in maneuvers.items():
         if name == STRAIGHT:
             continue
         report = None if progress is None else progress(name)
-        trajectory = rollout(scene, init_state(scene), creature.servo(gait),
-                             RATE_CYCLES * period, progress=report)  # fmt: skip
+        turning = creature.servo(gait)
+
+        def plan(state, turning=turning):
+            return cruise if state.time < switch - 1e-9 * period else turning
+
+        trajectory = rollout(scene, init_state(scene), None, seconds, progress=report,
+                             record_fluid=False, plan=plan)  # fmt: skip
+        under_way, last = (cycle_frames(trajectory, end, period) for end in (switch, seconds))
         axis = np.asarray(MANEUVERS[name][1], dtype=float)
-        turn = float(axis @ rotation_vector(creature.model, trajectory, period))
+        turn = float(axis @ rotation_between(creature.model, trajectory, under_way, last))
         if not turn > 0:
             fix = ("In a vacuum only the body's change of shape turns it: steer in a fluid"
                    if scene.fluid.name == "none" else "Learn it again")  # fmt: skip
             raise SteeringError(
                 f"{creature.name}'s {name} turns {turn:.3g} rad its way over {RATE_CYCLES} "
-                f"cycles from rest: graded steering needs each manoeuvre to turn its way. {fix}"
+                f"cycles under way (after {UNDER_WAY_CYCLES} of its straight gait): graded "
+                f"steering needs each manoeuvre to turn its way. {fix}"
             )
         rates[name] = turn / RATE_CYCLES
     return rates
@@ -136,8 +162,11 @@ class Course:
                         rates=self.rates, gain=KEEP_GAIN)  # fmt: skip
 
 
-def prepare_course(creature: Creature, scene: Scene, period: float, progress=None) -> Course:
-    """The course keeper's manoeuvres (the creature's shipped ones) and their rates.
+def prepare_course(
+    creature: Creature, scene: Scene, straight: SineGait, period: float, progress=None
+) -> Course:
+    """The course keeper's manoeuvres (the creature's shipped ones) and their rates under way
+    with ``straight``, the gait the swim keeps its course with.
 
     Raises:
         SteeringError: the creature has learned no manoeuvre to steer with (the message
@@ -156,4 +185,4 @@ def prepare_course(creature: Creature, scene: Scene, period: float, progress=Non
             f"then follow the line ahead with them: aquagait follow {creature.name} --path "
             f"line --learned {' '.join(runs)}"
         )
-    return Course(maneuvers, turn_rates(creature, scene, maneuvers, period, progress))
+    return Course(maneuvers, turn_rates(creature, scene, straight, maneuvers, period, progress))

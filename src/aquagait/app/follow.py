@@ -18,8 +18,8 @@ At the start of every cycle the follower (``aquagait.path.Follower``) mixes
 a share of a manoeuvre into the straight gait, by how far the path ahead
 bears off the heading and how fast the manoeuvre turns (``steer="graded"``,
 the default: ``aquagait.path.rule``, which gives the figures that chose it);
-each manoeuvre's turn a cycle is measured first, by swimming it two
-cycles from rest, as its search did (``aquagait.app.course.turn_rates``). With
+each manoeuvre's turn a cycle is measured first, under way: two cycles of
+it after two of the straight gait (``aquagait.app.course.turn_rates``). With
 ``steer="paper"`` it picks one whole manoeuvre or straight by the paper's
 rule, with a dead band of ``dead_band`` (by default a tenth of a body
 length). Either way a switch blends over a quarter of a cycle. ``open_loop``
@@ -210,7 +210,9 @@ def prepare_follow(
     period = float(np.max(spec.unpack(x).period))
     graded = steer == "graded" and not open_loop
     try:
-        rates = turn_rates(creature, scene, sines(gaits), period, progress) if graded else None
+        library = sines(gaits)
+        rates = (turn_rates(creature, scene, library[STRAIGHT], library, period, progress)
+                 if graded else None)  # fmt: skip
     except SteeringError as err:
         raise FollowSetupError(f"{err}, or follow by the paper's rule (--steer paper)") from None
     return FollowSetup(creature, scene, path, source, gaits, int(cycles), period, eps,

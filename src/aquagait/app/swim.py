@@ -27,6 +27,7 @@ from aquagait.app.course import Course, SteeringError, prepare_course
 from aquagait.app.errors import SetupError
 from aquagait.app.render import draw_swim, picture_look
 from aquagait.app.resolve import creature_key, find_creature, find_gait
+from aquagait.control.gait import SineGait
 from aquagait.creatures import Creature, CreatureError
 from aquagait.io.gait import write_gait
 from aquagait.io.run import library_versions, write_run
@@ -90,9 +91,14 @@ class SwimSetup:
         return self.creature.spec(self.maneuver, self.free_period)
 
     @property
+    def gait(self) -> SineGait:
+        """The gait the swim drives its servo with."""
+        return self.spec.unpack(self.params)
+
+    @property
     def period(self) -> float:
         """The gait's cycle T [s] (the longest, if the DOFs' periods differ)."""
-        return float(np.max(self.spec.unpack(self.params).period))
+        return float(np.max(self.gait.period))
 
 
 @dataclass(frozen=True, eq=False)
@@ -207,7 +213,7 @@ def prepare_swim(
             f"this gait {gait_is}: swim a straight gait, or swim without keeping a course"
         )
     try:
-        course = prepare_course(creature, scene, setup.period, progress)
+        course = prepare_course(creature, scene, setup.gait, setup.period, progress)
     except SteeringError as err:
         raise SwimSetupError(str(err)) from None
     return replace(setup, course=course)
@@ -233,7 +239,7 @@ def run_swim(setup: SwimSetup, progress=None) -> SwimRun:
             the body outgrew the grid; time and place in the message).
     """
     creature, scene = setup.creature, setup.scene
-    gait = setup.spec.unpack(setup.params)
+    gait = setup.gait
     policy, plan = creature.servo(gait), None
     if setup.course is not None:
         policy, plan = None, setup.course.follower(scene, gait, creature.servo, setup.period)
