@@ -206,6 +206,29 @@ def test_with_the_gait_period_the_rotation_is_free_of_the_recoil_within_a_cycle(
         )
 
 
+def test_the_rotation_between_two_cycles_is_free_of_the_recoil_in_either(eel):
+    """Graded steering's rate under way: a heading turning 0.2 rad a second under a yaw of
+    +-0.3 rad at the gait frequency. From the mean over the second of three 1-s cycles to
+    the mean over the third, the turn is 0.2 rad (both means lag their cycle's end by the
+    same half cycle), whatever the beat's phase; one frame at the start would see the yaw."""
+    time = np.arange(91) / 30  # three cycles of 1 s
+    fish = ag.creatures.get("fish").model
+    for phase in (0.0, 1.0, 2.0):
+        yaw = 0.2 * time + 0.3 * np.sin(2 * np.pi * time + phase)
+        planar = np.zeros((91, eel.model.nq))
+        planar[:, 2] = yaw
+        spatial = np.tile(fish.qpos0, (91, 1))
+        spatial[:, 3:7] = np.c_[np.cos(yaw / 2), 0 * yaw, 0 * yaw, np.sin(yaw / 2)]  # about z
+        second, third = (obj.cycle_frames(trajectory(planar), end, 1.0) for end in (2.0, 3.0))
+        np.testing.assert_array_equal(second, np.arange(31, 61))  # each phase of it once
+        turn = obj.rotation_between(eel.model, trajectory(planar), second, third)
+        np.testing.assert_allclose(turn, [0, 0, 0.2], atol=1e-12)
+        turned = obj.rotation_between(fish, trajectory(spatial), second, third)
+        np.testing.assert_allclose(turned, [0, 0, 0.2], atol=1e-12)  # the recoils cancel
+        from_a_frame = obj.rotation_between(eel.model, trajectory(planar), [60], third)[2]
+        assert from_a_frame == pytest.approx(0.2 * time[61:].mean() - yaw[60])  # yaw and all
+
+
 # --- the efficiency objective ----------------------------------------------------------
 
 
