@@ -32,9 +32,10 @@ body lengths per cycle; figures measured with it say so), ``efficient``
 for a third of the cost of transport of the straight gait then) and the
 learned manoeuvres ``turn-left`` and ``turn-right`` (12 parameters: the
 offsets freed, within +-0.5 rad; ``aquagait optimize eel2d --maneuver
-turn-left --seed 1`` from the straight gait of 2026-12-06), which turn 136 and
-122 degrees over two cycles from rest and let it follow paths (``aquagait
-follow``: 0.12 body lengths from a circle of 0.6 m radius on average).
+turn-left --seed 1`` from the straight gait of 2026-12-06), which turn 94 and 90
+degrees over two cycles from rest (to the mean over the second) and let it follow
+paths (``aquagait follow``: 0.12 body lengths from a circle of 0.6 m radius on
+average).
 
 ====  ==================  ===============  =========  ======  ==========  ========
 DOF   amplitude bounds    phase bounds     amplitude  phase   hand-set    hand-set
