@@ -55,9 +55,9 @@ KEEP_GAIN = 0.5
 """Graded steering's gain for keeping a course: a quarter of the path follower's
 (``rule.GAIN``), which anticipates bends. On a straight line there is no bend to meet, only
 drift, and the correction a manoeuvre starts goes on turning after its cycle: eel2d in the
-simple fluid, its turns' measured rates 0.48 rad a cycle, weaves with a growing amplitude
-at gains 2 and 1 (33 and 24 degrees by cycle 8), alternates at 0.75 (within 2 degrees)
-and holds its heading within 1 degree at 0.5."""
+simple fluid (its turns of 2026-12-04, their rates from rest 0.48 rad a cycle) weaves with
+a growing amplitude at gains 2 and 1 (33 and 24 degrees by cycle 8), alternates at 0.75
+(within 2 degrees) and holds its heading within 1 degree at 0.5."""
 
 AHEAD = 1000.0
 """Body lengths of the straight line a course keeper follows: more than any swim covers."""
