@@ -3,8 +3,8 @@
 Shows path following (paper §5) through the Python API: the eel's manoeuvre
 library (straight and the turns it ships, learned with ``aquagait optimize
 eel2d --maneuver turn-left``), a path (a named shape placed at the eel's
-head), each turn's rate (its turn a cycle, measured by swimming it from
-rest), and the ``Follower``: a planner that ``rollout`` asks at every frame;
+head), each turn's rate (its turn a cycle under way: two cycles of it after
+two of the straight gait), and the ``Follower``: a planner that ``rollout`` asks at every frame;
 at each cycle's start it looks at the path ahead in the eel's own frame and
 mixes into the straight gait the share of turn-left or turn-right that
 turns towards it, blending the switch over a quarter cycle (without
@@ -47,7 +47,7 @@ def main(argv=None) -> None:
     path = Route(shape("circle", radius=args.radius).points + start)
     library = {m: eel.spec(m).unpack(eel.maneuver_gait(m)) for m in eel.maneuvers}
     print(f"eel2d has learned: {', '.join(library)}")
-    rates = turn_rates(eel, scene, library, period=1.0)
+    rates = turn_rates(eel, scene, library["straight"], library, period=1.0)
     print("their turn a cycle: " + ", ".join(f"{m} {r:.2f} rad" for m, r in rates.items()))
     follower = Follower(scene, library, eel.servo, path, period=1.0,
                         dead_band=0.1 * eel.model.body_length, rates=rates)  # fmt: skip

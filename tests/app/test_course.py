@@ -20,12 +20,11 @@ def kept():
 
 
 def test_a_kept_course_holds_a_drifting_gait_to_its_heading(kept):
-    """The straight gait with a tenth of turn-left mixed in turns left about 2.7 degrees a
-    cycle, open loop: 33 degrees after 12 cycles. Kept, it is at most 3.6 degrees off (in
-    its first cycle, before the first correction can act) and 0.3 degrees at the end: a
-    steady share of turn-right near the tenth that cancels the drift needs a bearing of
-    only ``share x rate / gain`` = 0.1 x 0.47 / 0.5 rad, 5 degrees, and the line ahead
-    pulls the heading back below that."""
+    """The straight gait with a tenth of turn-left mixed in turns left about 5 degrees a
+    cycle, open loop: 59 degrees after 12 cycles (the turns of 2026-12-06). Kept, it is at
+    most 6.1 degrees off, in its second cycle (the first is the open loop's: the first
+    correction acts from the second), and 2.6 at the end: never more than a cycle and a
+    half of the open loop's drift off, and at the end within one cycle's."""
     creature, scene = kept.creature, kept.scene
     straight = kept.spec.unpack(kept.params)
     drifting = mix([straight, kept.course.maneuvers["turn-left"]], [0.9, 0.1])
@@ -35,8 +34,8 @@ def test_a_kept_course_holds_a_drifting_gait_to_its_heading(kept):
     steered = rollout(scene, init_state(scene), None, seconds, plan=follower)
     drift = Cycles(creature.model, open_loop, kept.period).attitudes()[:, 0]
     heading = Cycles(creature.model, steered, kept.period).attitudes()[:, 0]
-    assert drift[-1] > 25.0
-    assert np.all(np.abs(heading) < 6.0) and abs(heading[-1]) < 2.0
+    assert drift[-1] > 10 * drift[0] > 0
+    assert np.all(np.abs(heading) < 1.5 * drift[0]) and abs(heading[-1]) < drift[0]
     assert abs(steered.qpos[-1, 1]) < 0.05 * creature.model.body_length * 12  # on the line
 
 
