@@ -11,8 +11,10 @@ heading and how fast the manoeuvre turns. Each manoeuvre's turn a cycle is
 measured here under way, as steering uses it: ``UNDER_WAY_CYCLES`` cycles of
 the straight gait from rest, then ``RATE_CYCLES`` of the manoeuvre
 (``turn_rates``). Under way a manoeuvre turns other than from rest, where its
-search measured it: eel2d's turns of 2026-12-06 turn 1.3-1.8 times their rate
-from rest, and steering by that rate over-steered round a circle.
+search measured it: eel2d's turn-left of 2026-12-06 turns 45-64 degrees a
+cycle after two straight cycles and 69-89 after one of turn-right, against 47
+from rest, and steering by its rate from rest over-steered round a circle
+(docs/follow.md).
 
 A swim that keeps its course follows the straight line ahead of its start
 (+x, where every library creature faces). Open-loop gaits leave a 3D swimmer
