@@ -41,8 +41,8 @@ def test_the_eel_follows_a_circle_and_an_s_curve(path, steer, within):
     """Within a fifth of a body length of the circle on average (the library issue's
     target: the paper's Figure 10 keeps the eel on it; with the turns of 2026-12-06
     measured 0.12 graded, 0.19 by the paper's rule), 0.3 of the S-curve, which it meets 50
-    degrees off its tangent at the first bend (measured 0.29; the turns of 2026-12-04,
-    learned on the follower's square grid, 0.24: docs/follow.md)."""
+    degrees off its tangent at the first bend (measured 0.29; the turns of 2026-12-04
+    0.24: docs/follow.md)."""
     m = _follow("eel2d", path, 12, steer=steer)
     assert m["path_distance_mean_body_lengths"] < within
     assert m["path_progress_body_lengths"] > 4  # it went along, not round in place
