@@ -55,7 +55,7 @@ def case_setup(base: SwimSetup, case: str) -> SwimSetup:
         setup = replace(base, scene=scene)
     elif kind in ("period", "amplitude"):
         spec = creature.spec(base.maneuver, free_period=True)
-        gait = base.spec.unpack(base.params)
+        gait = base.gait
         x = spec.vector(gait)
         if kind == "period":
             x[list(spec.names).index("period")] *= k

@@ -26,7 +26,7 @@ def test_a_kept_course_holds_a_drifting_gait_to_its_heading(kept):
     correction acts from the second), and 2.6 at the end: never more than a cycle and a
     half of the open loop's drift off, and at the end within one cycle's."""
     creature, scene = kept.creature, kept.scene
-    straight = kept.spec.unpack(kept.params)
+    straight = kept.gait
     drifting = mix([straight, kept.course.maneuvers["turn-left"]], [0.9, 0.1])
     seconds = 12 * kept.period
     open_loop = rollout(scene, init_state(scene), creature.servo(drifting), seconds)
