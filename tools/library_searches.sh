@@ -3,7 +3,7 @@
 # keep one core busy; run from the repository root, in the background:
 #
 #     nohup tools/library_searches.sh frog > /dev/null 2>&1 &
-#     nohup nice -n 10 tools/library_searches.sh straight-2d > /dev/null 2>&1 &
+#     nohup nice -n 10 tools/library_searches.sh eel3d > /dev/null 2>&1 &
 #     nohup nice -n 10 tools/library_searches.sh straight-3d > /dev/null 2>&1 &
 #
 # The frog's searches are the longest chain (its straight gait, then its pitches from it,
@@ -14,10 +14,14 @@
 #
 # Each search runs in runs/NAME with its log in runs/NAME.log, one worker, seed 1, the
 # default search. A search whose run directory holds a checkpoint goes on from it
-# (--resume), and one that has finished (gait.json written) is skipped, so after a session
-# ends the same command picks up where it stopped. Ship a finished search's gait with
-# tools/ship_gait.py once the slow tests pass with it; the manoeuvre and efficiency lanes
-# start from the shipped straight gait, so run them after the straight gaits have shipped.
+# (--resume); one that has finished (gait.json written) is skipped. runs/ does not outlive
+# a session's machine, so before a session ends carry each search's best so far into the
+# repository (python tools/carry_searches.py, then commit tools/carried/): a search with no
+# checkpoint goes on from its last carried leg, and one whose last leg finished it is
+# skipped, so the same command picks up where the last session stopped. Ship a finished
+# search's gait with tools/ship_gait.py once the slow tests pass with it; the manoeuvre and
+# efficiency lanes start from the shipped straight gait, so run them after the straight
+# gaits have shipped.
 set -u
 cd "$(dirname "$0")/.."
 
@@ -28,10 +32,21 @@ search() {  # run directory name, then aquagait optimize's arguments
         echo "runs/$out: finished, skipped"
         return
     fi
-    local resume=()
-    [ -f "runs/$out/checkpoint.pkl" ] && resume=(--resume)
-    echo "runs/$out: aquagait optimize $* ${resume[*]}"
-    aquagait optimize "$@" --seed 1 --workers 1 --out "runs/$out" "${resume[@]}" \
+    local more status
+    more=$(python tools/carry_searches.py --continue "$out")
+    status=$?
+    if [ $status -eq 3 ]; then
+        echo "runs/$out: finished (its last leg in tools/carried), skipped"
+        return
+    elif [ $status -ne 0 ]; then
+        echo "runs/$out: cannot tell how to go on (tools/carry_searches.py --continue $out)" >&2
+        return
+    fi
+    # shellcheck disable=SC2206  # carry_searches prints plain words (flags, a path, numbers)
+    local continuing=($more)
+    echo "runs/$out: aquagait optimize $* ${continuing[*]}"
+    mkdir -p runs
+    aquagait optimize "$@" --seed 1 --workers 1 --out "runs/$out" "${continuing[@]}" \
         >> "runs/$out.log" 2>&1
 }
 
@@ -42,9 +57,8 @@ from_both_starts() {  # each creature from its shipped straight gait, then each 
 }
 
 case "${1:-}" in
-straight-2d)  # the 2D creatures first (cheap, and their turns wait on them), then eel3d
-    from_both_starts eel2d turtle2d
-    search accordion2d-straight-51 accordion2d  # its shipped gait is the hand-set one
+eel3d)  # the 2D creatures' straight searches (eel2d's and turtle2d's from both starts,
+    # accordion2d's) finished and shipped on 2026-12-06: this lane was straight-2d
     from_both_starts eel3d
     ;;
 straight-3d)
@@ -85,7 +99,7 @@ efficient)  # at 75 % of the shipped straight gait's cruising speed (the default
     done
     ;;
 *)
-    echo "usage: $0 straight-2d|straight-3d|frog|maneuvers [CREATURE ...]|frog-pitches|efficient [CREATURE ...]" >&2
+    echo "usage: $0 eel3d|straight-3d|frog|maneuvers [CREATURE ...]|frog-pitches|efficient [CREATURE ...]" >&2
     exit 2
     ;;
 esac

@@ -136,11 +136,11 @@ def ship(run: Path, name: str | None) -> Path:
     searched_from_it = displaced and name == "straight"  # the default start of the run
     record = provenance(run, "hand-set" if searched_from_it else None)
     gaits[name] = {"params": params, "provenance": record}
-    sidecar.write_text(_dumps(meta) + "\n")
+    sidecar.write_text(side_car_json(meta) + "\n")
     return sidecar
 
 
-def _dumps(obj) -> str:
+def side_car_json(obj) -> str:
     """Indented JSON with every list of plain values and every small dict on one line, as the
     side-cars are written by hand."""
     text = json.dumps(obj, indent=2)
