@@ -414,3 +414,53 @@ def test_an_efficiency_search_whose_best_gait_has_not_settled_says_so(tmp_path, 
 def test_bad_efficiency_settings_say_what_would_be_right(flags, message):
     with pytest.raises(OptimizationSetupError, match=message):
         prepare_optimization("eel2d", **COARSE, **flags)
+
+
+def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path, monkeypatch):
+    """``tools/carry_searches.py``: a run's best so far becomes a leg (a gait file that
+    swims); a search continued from it starts at that gait with the spread reached, so its
+    start scores the leg's objective again (the swim is deterministic); while it runs, it
+    resumes against the leg it started from; a later leg replaces nothing and names it; a
+    leg that finished its search stops the lane."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+    import carry_searches as carry
+
+    monkeypatch.setattr(carry, "ROOT", tmp_path)
+    monkeypatch.setattr(carry, "CARRIED", tmp_path / "carried")
+    lane = ["optimize", "eel2d", "--generations", "2", "--popsize", "4", "--workers", "1",
+            "--resolution", "48", "28", "--cell-size", "0.025", "--no-video"]  # fmt: skip
+    first = tmp_path / "runs" / "eel"
+    assert carry.continuation("eel") == []  # nothing yet: the lane's own start
+    assert cli.main([*lane, "--out", str(first)]) == 0
+    leg = carry.carry(first)
+    gait = json.loads(leg.read_text())
+    assert leg.name == "eel.leg1.json" and gait["carried"]["from"] == "the search's own start"
+    assert gait["params"] == json.loads((first / "gait.json").read_text())["params"]
+    assert gait["carried"]["finished"] and gait["carried"]["generations"] == 2
+    first.rename(tmp_path / "lost")  # the next session's machine: runs/ is gone
+    with pytest.raises(SystemExit) as finished:
+        carry.continuation("eel")
+    assert finished.value.code == 3
+
+    # as if carried before it finished: the next session goes on from the leg
+    gait["carried"]["finished"] = False
+    leg.write_text(json.dumps(gait))
+    more = carry.continuation("eel")
+    assert more == ["--start", "carried/eel.leg1.json", "--step", f"{gait['carried']['step']:.4g}"]
+    more[1] = str(tmp_path / more[1])
+    second = tmp_path / "runs" / "eel"
+    assert cli.main([*lane, "--out", str(second), *more]) == 0
+    config = json.loads((second / "config.json").read_text())["optimization"]
+    assert config["step"] == pytest.approx(gait["carried"]["step"], rel=1e-3)
+    start_f = checkpoint_run(second)["start_f"]
+    assert start_f == pytest.approx(gait["carried"]["objective"], rel=1e-6)
+    assert carry.continuation("eel")[:3] == ["--resume", "--start", "carried/eel.leg1.json"]
+    later = carry.carry(second)
+    assert later.name == "eel.leg2.json"
+    assert json.loads(later.read_text())["carried"]["from"] == "eel.leg1.json"
+
+
+def checkpoint_run(run: Path) -> dict:
+    from aquagait.optimize import checkpoint
+
+    return checkpoint.load(run)["run"]

@@ -67,7 +67,6 @@ def carry(run: Path) -> Path | None:
     creature = ag.creatures.get(objective["creature"])
     names = creature.spec(objective["maneuver"], objective["free_period"]).names
     width = np.asarray(fingerprint["upper"]) - np.asarray(fingerprint["lower"])
-    es = progress["es"]
     record = {
         "run": run.name,
         "leg": before.index(start) + 2 if start else 1,
@@ -79,8 +78,7 @@ def carry(run: Path) -> Path | None:
         "wall_time": round(progress["elapsed"]),
         "finished": progress["finished"],
         "stopped": progress["stopped"],
-        # the spread reached, as --step takes it: a share of each parameter's range
-        "step": float(np.clip(np.mean(es.stds / width), 1e-3, 1.0)) if es is not None else None,
+        "step": _spread(progress, width),
         "min_speed": objective["min_speed"],
         "aquagait": ag.__version__,
         "date": datetime.now(UTC).date().isoformat(),
@@ -96,6 +94,18 @@ def carry(run: Path) -> Path | None:
     path = CARRIED / f"{run.name}.leg{record['leg']}.json"
     path.write_text(side_car_json(gait) + "\n")
     return path
+
+
+def _spread(progress: dict, width: np.ndarray) -> float:
+    """The spread the search reached, as ``--step`` takes it: each parameter's standard
+    deviation, a share of its range, averaged (the covariance's shape is not kept). A
+    group that has ended keeps only its last step size."""
+    es = progress["es"]
+    if es is not None:
+        share = np.mean(es.stds / width)
+    else:  # the problem scales coordinate i by width_i / mean(width)
+        share = progress["history"][-1]["sigma"] / np.mean(width)
+    return float(np.clip(share, 1e-3, 1.0))
 
 
 def _start_leg(before: list[Path], x0) -> Path | None:
