@@ -34,10 +34,10 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
+from ship_gait import side_car_json
 
 import aquagait as ag
 from aquagait.optimize import checkpoint
-from ship_gait import side_car_json
 
 ROOT = Path(__file__).resolve().parents[1]
 CARRIED = ROOT / "tools" / "carried"
