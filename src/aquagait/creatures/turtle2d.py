@@ -79,8 +79,12 @@ the gait of 2026-12-04, 34): the front flipper beats below the centre of mass,
 and, as in the paper (§7), a 2D turtle does not swim straight without path
 following; no attempt is made to trim it. Its learned ``turn-left`` and
 ``turn-right`` (nose up and down in this side view: the front flipper's offsets
-freed, the rear flipper held as a rudder; 53 and 73 degrees over two cycles
-from rest) let it hold a line with ``aquagait follow turtle2d --path line``.
+freed, the rear flipper held as a rudder; 54 degrees each way over two cycles
+from rest, learned on 2026-12-07) let it hold a line with ``aquagait follow
+turtle2d --path line`` (0.16 body lengths from a 10 m line on average over ten
+cycles). Under way its nose-up turn barely turns it (1.4 degrees a cycle after two
+straight cycles, against 53 nose down): its straight gait pitches it nose down
+about as fast.
 
 Default grid 64 x 64 cells of 25 mm: 1.6 x 1.6 m, 1.7 x 1.7 body lengths.
 Energy bound 5 m (L/T)^2 = 438 J over two cycles (the default,
