@@ -420,8 +420,8 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     """``tools/carry_searches.py``: a run's best so far becomes a leg (a gait file that
     swims); a search continued from it starts at that gait with the spread reached, so its
     start scores the leg's objective again (the swim is deterministic); while it runs, it
-    resumes against the leg it started from; a later leg replaces nothing and names it; a
-    leg that finished its search stops the lane."""
+    resumes against the leg it started from; its leg follows that one and names it, and is
+    replaced when carried again; a leg that finished its search stops the lane."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
     import carry_searches as carry
 
@@ -458,6 +458,7 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     later = carry.carry(second)
     assert later.name == "eel.leg2.json"
     assert json.loads(later.read_text())["carried"]["from"] == "eel.leg1.json"
+    assert carry.carry(second) == later  # carried again: the same leg, not a third
 
 
 def checkpoint_run(run: Path) -> dict:

@@ -53,14 +53,17 @@ def legs(name: str) -> list[Path]:
 def carry(run: Path) -> Path | None:
     """Write the run's best gait so far as the next leg of its search (the leg after the
     one it started from, replacing one carried from it earlier); None when there is
-    nothing to carry (no checkpoint, or nothing better than its start yet)."""
+    nothing to carry (no checkpoint, or, while it runs, nothing better than its start
+    yet). A search that has finished is carried even if it found nothing better, so that
+    its lane does not run it again."""
     if not (run / checkpoint.CHECKPOINT).is_file():
         return None
     state = checkpoint.load(run)
     fingerprint, progress = state["fingerprint"], state["run"]
     start_f = progress["start_f"]  # None: not scored
-    if not progress["history"] or (start_f is not None and progress["best_f"] >= start_f):
-        return None  # nothing better than its start yet
+    bettered = start_f is None or progress["best_f"] < start_f
+    if not progress["history"] or not (bettered or progress["finished"]):
+        return None
     objective = fingerprint["objective"]
     before = legs(run.name)
     start = _start_leg(before, fingerprint["x0"])
@@ -80,6 +83,7 @@ def carry(run: Path) -> Path | None:
         "stopped": progress["stopped"],
         "step": _spread(progress, width),
         "min_speed": objective["min_speed"],
+        "start": list(fingerprint["x0"]),  # where this leg's search started
         "aquagait": ag.__version__,
         "date": datetime.now(UTC).date().isoformat(),
     }
@@ -109,11 +113,13 @@ def _spread(progress: dict, width: np.ndarray) -> float:
 
 
 def _start_leg(before: list[Path], x0) -> Path | None:
-    """The leg the run started from (the last whose gait is its start), or None: it
-    started from its own start. Legs after it were carried from this run before, and the
-    next one replaces them."""
+    """The leg the run started from (the last whose gait is its start, not carried from a
+    search that started there itself), or None: it started from its own start. Legs after
+    it were carried from this run before, and the next one replaces them."""
     for leg in reversed(before):
-        if np.allclose(json.loads(leg.read_text())["params"], x0):
+        gait = json.loads(leg.read_text())
+        carried_from_here = np.allclose(gait["carried"].get("start", np.nan), x0)
+        if np.allclose(gait["params"], x0) and not carried_from_here:
             return leg
     return None
 

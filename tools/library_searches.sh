@@ -15,8 +15,9 @@
 # Each search runs in runs/NAME with its log in runs/NAME.log, one worker, seed 1, the
 # default search. A search whose run directory holds a checkpoint goes on from it
 # (--resume); one that has finished (gait.json written) is skipped. runs/ does not outlive
-# a session's machine, so before a session ends carry each search's best so far into the
-# repository (python tools/carry_searches.py, then commit tools/carried/): a search with no
+# a session's machine, so each search's best so far is carried into the repository every
+# CARRY_EVERY seconds (900) and when it ends (python tools/carry_searches.py; commit
+# tools/carried/ before the session ends, and carry once more by hand): a search with no
 # checkpoint goes on from its last carried leg, and one whose last leg finished it is
 # skipped, so the same command picks up where the last session stopped. Ship a finished
 # search's gait with tools/ship_gait.py once the slow tests pass with it; the manoeuvre and
@@ -24,6 +25,7 @@
 # gaits have shipped.
 set -u
 cd "$(dirname "$0")/.."
+CARRY_EVERY=${CARRY_EVERY:-900}  # seconds between legs written while a search runs
 
 search() {  # run directory name, then aquagait optimize's arguments
     local out=$1
@@ -47,7 +49,18 @@ search() {  # run directory name, then aquagait optimize's arguments
     echo "runs/$out: aquagait optimize $* ${continuing[*]}"
     mkdir -p runs
     aquagait optimize "$@" --seed 1 --workers 1 --out "runs/$out" "${continuing[@]}" \
-        >> "runs/$out.log" 2>&1
+        >> "runs/$out.log" 2>&1 &
+    local search=$! waited=0
+    while kill -0 $search 2>/dev/null; do  # carried every CARRY_EVERY s, and at its end
+        sleep 30
+        waited=$((waited + 30))
+        if [ $waited -ge "$CARRY_EVERY" ]; then
+            python tools/carry_searches.py "runs/$out" >> "runs/$out.log" 2>&1
+            waited=0
+        fi
+    done
+    wait $search
+    python tools/carry_searches.py "runs/$out" >> "runs/$out.log" 2>&1
 }
 
 from_both_starts() {  # each creature from its shipped straight gait, then each from hand-set
