@@ -2,8 +2,9 @@
 far, written into the repository, where the next session's search goes on from it.
 
 A session's machine is new each time: ``runs/`` (and every checkpoint in it) does not
-outlive it. Before a session ends, write each search's best gait so far as the next
-*leg* of its search; ``tools/library_searches.sh`` then starts a search that has no
+outlive it. Each search's best gait so far is written as the next *leg* of its search
+(``tools/library_searches.sh`` does so every 15 minutes and when a search ends; carry by
+hand and commit before a session ends); the lane then starts a search that has no
 checkpoint from its last leg (``--start LEG --step S``: S is the spread the search had
 reached, so it goes on polishing rather than exploring again from scratch). A leg is a
 gait file (``aquagait swim NAME --gait LEG`` swims it) with a ``carried`` record: which
@@ -19,7 +20,8 @@ Run from the repository root::
 
 What a leg loses is the search's shape: CMA-ES's covariance and its patience start
 again (the spread is kept as one number), so legs cost a few generations each to
-re-adapt. The objective of a search continued from a leg is that of the first leg's
+re-adapt, and a grouped search (the frog's: hind legs, then forelimbs) starts again at
+its first group. The objective of a search continued from a leg is that of the first leg's
 search (for an efficiency search the minimum speed is passed on; its unit, the start's
 cost of transport, is the leg's own, which scales the objective and not its minimum).
 """
