@@ -459,6 +459,7 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     assert later.name == "eel.leg2.json"
     assert json.loads(later.read_text())["carried"]["from"] == "eel.leg1.json"
     assert carry.carry(second) == later  # carried again: the same leg, not a third
+    assert carry.summary()[2].startswith("| `eel` | 2 | 4 |")  # two legs of 2 generations
 
 
 def checkpoint_run(run: Path) -> dict:

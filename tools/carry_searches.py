@@ -17,6 +17,7 @@ Run from the repository root::
     python tools/carry_searches.py                        # every search under runs/
     python tools/carry_searches.py runs/manta-straight-51
     python tools/carry_searches.py --continue manta-straight-51   # the lane's arguments
+    python tools/carry_searches.py --list                 # how far every search has got
 
 What a leg loses is the search's shape: CMA-ES's covariance and its patience start
 again (the spread is kept as one number), so legs cost a few generations each to
@@ -150,12 +151,36 @@ def continuation(name: str) -> list[str]:
     return arguments
 
 
+def summary() -> list[str]:
+    """A table of every carried search: its legs, and over them all the generations, the
+    samples and the wall time, its best objective (the last leg's) and whether it has
+    finished."""
+    names = sorted({LEG.sub("", path.name) for path in CARRIED.glob("*.leg*.json")})
+    rows = ["| search | legs | generations | samples | hours | best objective | finished |",
+            "|---|---|---|---|---|---|---|"]  # fmt: skip
+    for name in names:
+        records = [json.loads(leg.read_text())["carried"] for leg in legs(name)]
+        last = records[-1]
+        rows.append(
+            f"| `{name}` | {len(records)} | {sum(r['generations'] for r in records)} "
+            f"| {sum(r['evaluations'] for r in records)} "
+            f"| {sum(r['wall_time'] for r in records) / 3600:.1f} | {last['objective']:.4g} "
+            f"| {'yes' if last['finished'] else 'no'} |"
+        )
+    return rows
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", nargs="*", type=Path, help="run directories (default: runs/*)")
     parser.add_argument("--continue", dest="name", help="print the arguments that go on "
                         "with this search (exit status 3: it has finished)")  # fmt: skip
+    parser.add_argument("--list", action="store_true", help="print a table of every "
+                        "carried search's progress")  # fmt: skip
     args = parser.parse_args()
+    if args.list:
+        print("\n".join(summary()))
+        sys.exit(0)
     if args.name:
         print(" ".join(continuation(args.name)))
         sys.exit(0)
