@@ -452,7 +452,7 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     assert cli.main([*lane, "--out", str(second), *more]) == 0
     config = json.loads((second / "config.json").read_text())["optimization"]
     assert config["step"] == pytest.approx(gait["carried"]["step"], rel=1e-3)
-    start_f = checkpoint_run(second)["start_f"]
+    start_f = _checkpoint_run(second)["start_f"]
     assert start_f == pytest.approx(gait["carried"]["objective"], rel=1e-6)
     assert carry.continuation("eel")[:3] == ["--resume", "--start", "carried/eel.leg1.json"]
     later = carry.carry(second)
@@ -462,7 +462,7 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     assert carry.summary()[2].startswith("| `eel` | 2 | 4 |")  # two legs of 2 generations
 
 
-def checkpoint_run(run: Path) -> dict:
+def _checkpoint_run(run: Path) -> dict:
     from aquagait.optimize import checkpoint
 
     return checkpoint.load(run)["run"]
