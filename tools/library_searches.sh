@@ -10,7 +10,7 @@
 # 10-15 core-hours each), so its lane keeps a core to itself and the others share the
 # second at a lower priority. Once the frog's straight gait ships, its lane frog-pitches
 # runs its two pitches side by side; once another creature's ships, its manoeuvres start
-# in a lane of their own (nohup nice -n 10 tools/library_searches.sh maneuvers eel2d ...).
+# in a lane of their own (nohup nice -n 10 tools/library_searches.sh maneuvers manta).
 #
 # Each search runs in runs/NAME with its log in runs/NAME.log, one worker, seed 1, the
 # default search. A search whose run directory holds a checkpoint goes on from it
