@@ -466,3 +466,18 @@ def _checkpoint_run(run: Path) -> dict:
     from aquagait.optimize import checkpoint
 
     return checkpoint.load(run)["run"]
+
+
+def test_a_carried_grouped_search_keeps_the_spread_of_the_group_it_was_in():
+    """The frog's search runs its groups in turn, each with a CMA-ES over its own
+    parameters: the spread carried is the group's, each standard deviation a share of its
+    own parameter's range (``--step``'s unit)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+    import carry_searches as carry
+
+    width = np.array([1.0, 2.0, 4.0, 8.0])
+    es = type("Group", (), {"stds": np.array([0.4, 0.8])})()  # 10 % of widths 4 and 8
+    progress = {"es": es, "group": 1, "history": []}
+    assert carry._spread(progress, width, [[0, 1], [2, 3]]) == pytest.approx(0.1)
+    ungrouped = {"es": type("All", (), {"stds": 0.05 * width})(), "group": 0, "history": []}
+    assert carry._spread(ungrouped, width, []) == pytest.approx(0.05)

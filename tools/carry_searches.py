@@ -84,7 +84,7 @@ def carry(run: Path) -> Path | None:
         "wall_time": round(progress["elapsed"]),
         "finished": progress["finished"],
         "stopped": progress["stopped"],
-        "step": _spread(progress, width),
+        "step": _spread(progress, width, fingerprint["groups"]),
         "min_speed": objective["min_speed"],
         "start": list(fingerprint["x0"]),  # where this leg's search started
         "aquagait": ag.__version__,
@@ -103,13 +103,15 @@ def carry(run: Path) -> Path | None:
     return path
 
 
-def _spread(progress: dict, width: np.ndarray) -> float:
+def _spread(progress: dict, width: np.ndarray, groups: list[list[int]]) -> float:
     """The spread the search reached, as ``--step`` takes it: each parameter's standard
-    deviation, a share of its range, averaged (the covariance's shape is not kept). A
-    group that has ended keeps only its last step size."""
+    deviation, a share of its range, averaged over the group being searched (the
+    covariance's shape is not kept). A group that has ended keeps only its last step
+    size."""
     es = progress["es"]
     if es is not None:
-        share = np.mean(es.stds / width)
+        group = groups[progress["group"]] if groups else slice(None)
+        share = np.mean(es.stds / width[group])
     else:  # the problem scales coordinate i by width_i / mean(width)
         share = progress["history"][-1]["sigma"] / np.mean(width)
     return float(np.clip(share, 1e-3, 1.0))
