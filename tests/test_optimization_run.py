@@ -26,6 +26,7 @@ from aquagait.app.optimize import (
 )
 from aquagait.creatures.creature import maneuver_start
 from aquagait.io import write_gait
+from aquagait.optimize import checkpoint
 
 COARSE = dict(resolution=(48, 28), cell_size=0.025)
 """A coarse eel2d grid: 28 cells across hold the shipped gait's 0.19 m sweep and 8 of water
@@ -452,7 +453,7 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     assert cli.main([*lane, "--out", str(second), *more]) == 0
     config = json.loads((second / "config.json").read_text())["optimization"]
     assert config["step"] == pytest.approx(gait["carried"]["step"], rel=1e-3)
-    start_f = _checkpoint_run(second)["start_f"]
+    start_f = checkpoint.load(second)["run"]["start_f"]
     assert start_f == pytest.approx(gait["carried"]["objective"], rel=1e-6)
     assert carry.continuation("eel")[:3] == ["--resume", "--start", "carried/eel.leg1.json"]
     later = carry.carry(second)
@@ -460,12 +461,6 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     assert json.loads(later.read_text())["carried"]["from"] == "eel.leg1.json"
     assert carry.carry(second) == later  # carried again: the same leg, not a third
     assert carry.summary()[2].startswith("| `eel` | 2 | 4 |")  # two legs of 2 generations
-
-
-def _checkpoint_run(run: Path) -> dict:
-    from aquagait.optimize import checkpoint
-
-    return checkpoint.load(run)["run"]
 
 
 def test_a_carried_grouped_search_keeps_the_spread_of_the_group_it_was_in():
