@@ -134,7 +134,6 @@ def test_the_deviation_weight_scales_the_drift_and_turning_term(tmp_path, capsys
 def _shipped_command(run: Path):
     """The command a gait shipped from ``run`` records (``tools/ship_gait.py``), and the
     search it sets up when parsed again."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
     from ship_gait import provenance
 
     command = provenance(run)["command"]
@@ -423,7 +422,6 @@ def test_a_search_carried_to_the_next_session_goes_on_where_it_stopped(tmp_path,
     start scores the leg's objective again (the swim is deterministic); while it runs, it
     resumes against the leg it started from; its leg follows that one and names it, and is
     replaced when carried again; a leg that finished its search stops the lane."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
     import carry_searches as carry
 
     monkeypatch.setattr(carry, "ROOT", tmp_path)
@@ -467,7 +465,6 @@ def test_a_carried_grouped_search_keeps_the_spread_of_the_group_it_was_in():
     """The frog's search runs its groups in turn, each with a CMA-ES over its own
     parameters: the spread carried is the group's, each standard deviation a share of its
     own parameter's range (``--step``'s unit)."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
     import carry_searches as carry
 
     width = np.array([1.0, 2.0, 4.0, 8.0])

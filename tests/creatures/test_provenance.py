@@ -3,17 +3,13 @@ command runs with today's command line and sets up the search that found it
 (``tools/ship_gait.py`` writes it, ``tools/check_provenance.py`` runs it)."""
 
 import shlex
-import sys
-from pathlib import Path
 
 import pytest
+from check_provenance import AGREE, check, optimized_gaits
 
 import aquagait as ag
 from aquagait.cli import build_parser
 from aquagait.objectives import MANEUVERS
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
-from check_provenance import AGREE, check, optimized_gaits  # noqa: E402
 
 OPTIMIZED = sorted(optimized_gaits(ag.creatures.names()))
 
