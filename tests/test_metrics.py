@@ -9,6 +9,7 @@ from aquagait.metrics import (
     UNITS,
     NoSteadyWindow,
     attitude_metrics,
+    course,
     cruise_metrics,
     lateral_excursion,
     settled_cycle,
@@ -193,6 +194,10 @@ def test_the_tail_amplitude_is_taken_per_cycle_so_a_slow_turn_is_not_beat(eel):
     assert m["cruise_speed"] == pytest.approx(speed, rel=0.005)
     assert m["steady_speed"] < 0.96 * speed
     assert m["heading"] == pytest.approx(np.degrees(speed * 9.5 / radius), abs=0.5)
+    # the course over the last two cycles: the chord of the arc from 8 to 10 s, its direction
+    # the arc's middle (9 s), a cycle's turn short of where it faces at the end
+    traj = synthetic(eel.model, pose, seconds=10.0)
+    assert course(traj, 2, seconds=2.0) == pytest.approx(np.degrees(speed * 9 / radius), abs=1e-9)
 
 
 def test_the_attitude_is_the_root_s_mean_turn_from_rest_over_a_cycle():
@@ -250,6 +255,8 @@ def test_errors_say_what_is_wrong(eel):
         travel_metrics(eel.model, one)
     with pytest.raises(ValueError, match="period must be a positive"):
         travel_metrics(eel.model, short, period=0)
+    with pytest.raises(ValueError, match="needs a swim longer than that"):
+        course(short, 2, seconds=1.0)
     fish = ag.creatures.get("fish")
     with pytest.raises(ValueError, match=r"must be \(21, 10\)"):
         travel_metrics(fish.model, short)

@@ -22,22 +22,15 @@ from __future__ import annotations
 import argparse
 import json
 
-import numpy as np
-
 import aquagait as ag
 from aquagait.app import prepare_swim, run_swim
 from aquagait.app.swim import SwimSetupError
+from aquagait.metrics import course
 
 CYCLES = 20
 TURNS = 30.0
 """Degrees off +x after twenty cycles beyond which the table adds the swim that keeps its
 course (the library issue's rule)."""
-
-
-def travel_angle(trajectory, dim: int, frames: int) -> float:
-    """Degrees between +x and the way the root travelled over the last ``frames`` frames."""
-    travel = trajectory.qpos[-1, :dim] - trajectory.qpos[-1 - frames, :dim]
-    return float(np.degrees(np.arccos(travel[0] / np.linalg.norm(travel))))
 
 
 def row(name: str, keep_course: bool = False) -> dict:
@@ -56,7 +49,7 @@ def row(name: str, keep_course: bool = False) -> dict:
         "cruise": m["cruise_body_lengths_per_cycle"],
         "strouhal": m["cruise_strouhal"],
         "cost_of_transport": m["cruise_cost_of_transport"],
-        "turned": travel_angle(trajectory, creature.dim, frames),
+        "turned": course(trajectory, creature.dim, 2 * period),
         "energy_two_cycles": float(trajectory.energy[frames].sum()),
         "energy_bound": creature.energy_bound,
         "grid_notes": list(run.grid_notes),

@@ -320,6 +320,21 @@ def attitude_metrics(model: Model, trajectory: Trajectory, period: float = 1.0) 
     }
 
 
+def course(trajectory: Trajectory, dim: int, seconds: float) -> float:
+    """Degrees between +x (where a creature faces at rest) and the way its root travelled
+    over the last ``seconds`` of ``trajectory`` ([0, 180]): over whole gait cycles, the
+    course it holds, free of the body's recoil within a cycle (where ``heading`` is where
+    it faces)."""
+    frames = int(round(seconds * trajectory.fps))
+    if not 0 < frames < len(trajectory.time):
+        raise ValueError(
+            f"a course over the last {seconds:.4g} s needs a swim longer than that: this "
+            f"one has {len(trajectory.time)} frames at {trajectory.fps:.4g} a second"
+        )
+    travel = trajectory.qpos[-1, :dim] - trajectory.qpos[-1 - frames, :dim]
+    return float(np.degrees(np.arccos(np.clip(travel[0] / np.linalg.norm(travel), -1, 1))))
+
+
 class Cycles:
     """A trajectory cut into whole gait cycles from its first frame: ``starts`` (n,) [s].
 

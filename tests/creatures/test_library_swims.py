@@ -16,7 +16,7 @@ import aquagait as ag
 from aquagait.app import prepare_swim, run_swim
 from aquagait.body.dynamics import Dynamics
 from aquagait.body.geometry import TailTip, tail_tip, tail_tip_path
-from aquagait.metrics import Cycles, centre_of_mass_path, lateral_excursion
+from aquagait.metrics import Cycles, centre_of_mass_path, course, lateral_excursion
 
 CYCLES = 20
 STRAIGHT_DEGREES = 30.0
@@ -93,14 +93,6 @@ def long_swim(name, gait=None):
     return run_swim(prepare_swim(name, gait=gait, seconds=float(CYCLES)))
 
 
-def heading_change(creature, trajectory) -> float:
-    """Degrees between +x (where the creature faces at rest) and the way its root travelled
-    over the last two cycles: the heading, free of the body's recoil within a cycle."""
-    dim = creature.dim
-    travel = trajectory.qpos[-1, :dim] - trajectory.qpos[-1 - 2 * 30, :dim]
-    return float(np.degrees(np.arccos(travel[0] / np.linalg.norm(travel))))
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(ag.creatures.names()))
 def test_the_shipped_gait_swims_forward_within_its_energy_bound_and_settles(name):
@@ -127,7 +119,7 @@ def test_the_shipped_gait_keeps_its_heading_and_stays_upright_for_twenty_cycles(
     creature = ag.creatures.get(name)
     run = long_swim(name)
     m = run.metrics
-    turn = heading_change(creature, run.trajectory)
+    turn = course(run.trajectory, creature.dim, 2 * m["period"])  # over the last two cycles
     attitude = "" if creature.dim == 2 else (
         f", largest pitch {m['max_pitch']:.1f} and roll {m['max_roll']:.1f} deg"
     )  # fmt: skip
