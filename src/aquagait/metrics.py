@@ -324,7 +324,17 @@ def course(trajectory: Trajectory, dim: int, seconds: float) -> float:
     """Degrees between +x (where a creature faces at rest) and the way its root travelled
     over the last ``seconds`` of ``trajectory`` ([0, 180]): over whole gait cycles, the
     course it holds, free of the body's recoil within a cycle (where ``heading`` is where
-    it faces)."""
+    it faces).
+
+    Args:
+        trajectory: the swim; its root's position is ``qpos[:, :dim]`` [m] (a free or
+            planar root, as every creature has).
+        dim: 2 or 3, the creature's.
+        seconds: how far back from the last frame [s], rounded to whole frames.
+
+    Raises:
+        ValueError: ``seconds`` is not more than a frame and less than the swim.
+    """
     frames = int(round(seconds * trajectory.fps))
     if not 0 < frames < len(trajectory.time):
         raise ValueError(
