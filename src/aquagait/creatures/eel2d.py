@@ -28,8 +28,9 @@ limits, the default). Shipped ``straight`` gait (optimized on 2026-12-06:
 shipped: ``hand-set`` (the default before the optimized gaits: a travelling
 wave, 1.5 rad of phase lag per joint, amplitude growing towards the tail; 0.39
 body lengths per cycle; figures measured with it say so), ``efficient``
-(``--objective efficiency``, 2026-12-04: 0.72 body lengths per cycle at cruise
-for a third of the cost of transport of the straight gait then) and the
+(``--objective efficiency``, 2026-12-07 from the straight gait of 2026-12-06:
+0.69 body lengths per cycle at cruise, Strouhal 0.35, for half the straight
+gait's cost of transport) and the
 learned manoeuvres ``turn-left`` and ``turn-right`` (12 parameters: the
 offsets freed, within +-0.5 rad; ``aquagait optimize eel2d --maneuver
 turn-left --seed 1`` from the straight gait of 2026-12-06), which turn 94 and 90
