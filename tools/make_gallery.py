@@ -17,7 +17,7 @@ its third second (from its own view, the side and above); for eel2d also
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -76,7 +76,10 @@ def library_sheet(names, path: Path) -> Path:
 
 
 if __name__ == "__main__":
-    names = sys.argv[1:] or ag.creatures.names()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("names", nargs="*", metavar="NAME",
+                        help="library creatures to draw (default: all of them)")  # fmt: skip
+    names = parser.parse_args().names or ag.creatures.names()
     for name in names:
         gallery(name)
     print(f"wrote {library_sheet(ag.creatures.names(), DOCS / 'library.png')}")
