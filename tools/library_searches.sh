@@ -10,7 +10,8 @@
 # 10-15 core-hours each), so its lane keeps a core to itself and the others share the
 # second at a lower priority. Once the frog's straight gait ships, its lane frog-pitches
 # runs its two pitches side by side; once another creature's ships, its manoeuvres start
-# in a lane of their own (nohup nice -n 10 tools/library_searches.sh maneuvers manta).
+# in a lane of their own (nohup nice -n 10 tools/library_searches.sh maneuvers manta, or
+# its two pitches side by side: tools/library_searches.sh pitches manta).
 #
 # Each search runs in runs/NAME with its log in runs/NAME.log, one worker, seed 1, the
 # default search. A search whose run directory holds a checkpoint goes on from it
@@ -69,6 +70,17 @@ from_both_starts() {  # each creature from its shipped straight gait, then each 
     for name in "$@"; do search "$name-handset-51" "$name" --start hand-set; done
 }
 
+pitches_side_by_side() {  # a creature's pitch-up and pitch-down at once, one core each
+    search "$1-pitch-up-51" "$1" --maneuver pitch-up &
+    search "$1-pitch-down-51" "$1" --maneuver pitch-down &
+    wait
+}
+
+usage() {
+    echo "usage: $0 eel3d|straight-3d|frog|maneuvers [CREATURE ...]|frog-pitches|pitches CREATURE|efficient [CREATURE ...]" >&2
+    exit 2
+}
+
 case "${1:-}" in
 eel3d)  # the 2D creatures' straight searches (eel2d's and turtle2d's from both starts,
     # accordion2d's) finished and shipped on 2026-12-06: this lane was straight-2d
@@ -93,12 +105,13 @@ maneuvers)  # from the shipped straight gaits, the manta's capped by its side-ca
         for move in "${moves[@]}"; do search "$name-$move-51" "$name" --maneuver "$move"; done
     done
     ;;
-frog-pitches)  # the frog's manoeuvres, side by side (one core each): pitches, which keep its
-    # mirror (a turn would drop it and double the parameters); it follows a vertical S
-    # with them, as the manta does
-    search frog-pitch-up-51 frog --maneuver pitch-up &
-    search frog-pitch-down-51 frog --maneuver pitch-down &
-    wait
+frog-pitches)  # the frog's manoeuvres: pitches, which keep its mirror (a turn would drop
+    # it and double the parameters); it follows a vertical S with them, as the manta does
+    pitches_side_by_side frog
+    ;;
+pitches)  # one creature's two pitches side by side (tools/library_searches.sh pitches manta)
+    [ $# -eq 2 ] || usage
+    pitches_side_by_side "$2"
     ;;
 efficient)  # at 75 % of the shipped straight gait's cruising speed (the default); name
     # creatures to search only theirs (tools/library_searches.sh efficient eel2d fish), as
@@ -113,7 +126,6 @@ efficient)  # at 75 % of the shipped straight gait's cruising speed (the default
     done
     ;;
 *)
-    echo "usage: $0 eel3d|straight-3d|frog|maneuvers [CREATURE ...]|frog-pitches|efficient [CREATURE ...]" >&2
-    exit 2
+    usage
     ;;
 esac
