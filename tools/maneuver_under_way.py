@@ -12,8 +12,8 @@ Run from the repository root::
 Each ``NAME*K`` swims K cycles of the shipped (or ``--learned``) manoeuvre NAME, switching
 at cycle boundaries, from rest on the follower's grid (``aquagait follow``'s default:
 ``roomy_grid``) unless ``--resolution`` says otherwise. It prints the heading, pitch and
-roll of every cycle (``aquagait.metrics.Cycles.attitudes``, degrees) and the grid's
-shifts. docs/follow.md ("How far ahead a manoeuvre's turn can be trusted") used it for
+roll of every cycle (``aquagait.metrics.Cycles.attitudes``, degrees), its travel (the
+centre of mass's displacement over the cycle, body lengths) and the grid's shifts. docs/follow.md ("How far ahead a manoeuvre's turn can be trusted") used it for
 the manta's pitches on five grids and three tolerances.
 """
 
@@ -78,12 +78,13 @@ def main() -> None:
     with growth_notes() as grew:
         trajectory = rollout(scene, init_state(scene), None, len(cycles) * period,
                              plan=plan, record_fluid=False)  # fmt: skip
-    attitudes = Cycles(creature.model, trajectory, period).attitudes()
+    cycled = Cycles(creature.model, trajectory, period)
+    attitudes, travel = cycled.attitudes(), cycled.distances() / creature.model.body_length
     print(f"{creature.name} on {'x'.join(map(str, resolution))}, tolerance {args.tolerance:g}: "
           f"{time.perf_counter() - start:.0f} s")  # fmt: skip
-    print("cycle  manoeuvre      heading   pitch    roll")
-    for k, (name, angles) in enumerate(zip(cycles, attitudes, strict=False), 1):
-        print(f"{k:5d}  {name:12s}" + "".join(f"{a:8.1f}" for a in angles))
+    print("cycle  manoeuvre      heading   pitch    roll  travel")
+    for k, (name, angles, moved) in enumerate(zip(cycles, attitudes, travel, strict=False), 1):
+        print(f"{k:5d}  {name:12s}" + "".join(f"{a:8.1f}" for a in angles) + f"{moved:8.3f}")
     print("grid shifts (cells):", "; ".join(shifts) or "none")
     for note in grew:
         print(note)
