@@ -7,14 +7,15 @@ Run from the repository root::
     python tools/maneuver_under_way.py manta straight*2 pitch-down*3 pitch-up*10
     python tools/maneuver_under_way.py manta straight*2 pitch-down*3 pitch-up*10 \\
         --resolution 96 48 48 --tolerance 1e-5
-    python tools/maneuver_under_way.py manta pitch-up*4 --learned runs/manta-pitch-up
+    python tools/maneuver_under_way.py manta straight*2 pitch-up*8 --learned runs/manta-pitch-up
 
 Each ``NAME*K`` swims K cycles of the shipped (or ``--learned``) manoeuvre NAME, switching
 at cycle boundaries, from rest on the follower's grid (``aquagait follow``'s default:
 ``roomy_grid``) unless ``--resolution`` says otherwise. It prints the heading, pitch and
 roll of every cycle (``aquagait.metrics.Cycles.attitudes``, degrees), its travel (the
-centre of mass's displacement over the cycle, body lengths) and the grid's shifts. docs/follow.md ("How far ahead a manoeuvre's turn can be trusted") used it for
-the manta's pitches on five grids and three tolerances.
+centre of mass's displacement over the cycle, body lengths) and the grid's shifts.
+docs/follow.md ("How far ahead a manoeuvre's turn can be trusted") used it for the
+manta's pitches on five grids and three tolerances.
 """
 
 from __future__ import annotations
@@ -25,9 +26,8 @@ import time
 import numpy as np
 
 import aquagait as ag
-from aquagait.app.course import shipped_maneuvers, sines
-from aquagait.app.follow import roomy_grid
-from aquagait.io import read_gait
+from aquagait.app.course import sines
+from aquagait.app.follow import FollowSetupError, maneuver_library, roomy_grid
 from aquagait.metrics import Cycles
 from aquagait.sim import EulerFluid, growth_notes, init_state, make_scene
 from aquagait.sim.rollout import rollout
@@ -46,16 +46,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("creature")
     parser.add_argument("steps", nargs="+", help="NAME*K: K cycles of manoeuvre NAME")
-    parser.add_argument("--learned", nargs="*", default=(), help="gait.json of manoeuvres")
+    parser.add_argument("--learned", nargs="*", default=(),
+                        help="learned manoeuvres: gait.json files or run directories")  # fmt: skip
     parser.add_argument("--resolution", type=int, nargs="+")
     parser.add_argument("--cell-size", type=float)
     parser.add_argument("--tolerance", type=float, default=EulerFluid().tolerance)
     args = parser.parse_args()
     creature = ag.creatures.get(args.creature)
-    gaits = sines(shipped_maneuvers(creature))
-    for path in args.learned:
-        learned = read_gait(path, creature)
-        gaits[learned.maneuver] = creature.spec(learned.maneuver).unpack(learned.params)
+    try:
+        gaits = sines(maneuver_library(creature, args.learned))
+    except FollowSetupError as err:
+        parser.error(str(err))
     cycles = schedule(args.steps)
     unknown = sorted(set(cycles) - set(gaits))
     if unknown:

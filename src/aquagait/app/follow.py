@@ -187,7 +187,7 @@ def prepare_follow(
         raise FollowSetupError(f"blend is a share of a cycle in [0, 1], got {blend!r}")
     if steer not in STEERING:
         raise FollowSetupError(f"steer is one of {', '.join(STEERING)}; got {steer!r}")
-    gaits = _library(creature, learned)
+    gaits = maneuver_library(creature, learned)
     if resolution is None:
         resolution = roomy_grid(creature.resolution)
     try:
@@ -385,8 +385,14 @@ def follow_summary(run: FollowRun, out=None) -> str:
 # --- what to follow, and with what -------------------------------------------
 
 
-def _library(creature: Creature, learned) -> dict:
-    """``{manoeuvre: (spec, params, source)}``: the shipped manoeuvres, then the learned files."""
+def maneuver_library(creature: Creature, learned) -> dict:
+    """``{manoeuvre: (spec, params, source)}``: the shipped manoeuvres, then the learned ones
+    (``gait.json`` files or run directories; each replaces a shipped one of its name).
+
+    Raises:
+        FollowSetupError: a learned file that cannot be read, is another creature's, or
+            sets its own period.
+    """
     gaits = shipped_maneuvers(creature)
     for item in learned:
         file = FilePath(item)
